@@ -1,0 +1,45 @@
+"""blockmesh: multi-block all-pentagonal finite element meshes of 2-D domains.
+
+The pipeline: a :class:`Domain` (validated blocks, from a polygon, explicit blocks or a TOML file)
+is refined into a :class:`Mesh` (:func:`refine`), which is integrated over or written to solver
+formats.
+
+Examples
+--------
+>>> import blockmesh
+>>> mesh = blockmesh.load_domain("square-cut").mesh(2)
+>>> mesh.n_cells
+144
+"""
+
+from .domain import Domain, load_domain, parse_polygon_string
+from .errors import (
+    BlockMeshError,
+    BlockMeshWarning,
+    DomainError,
+    DomainFormatError,
+    ExportError,
+    ExpressionError,
+    ResourceError,
+    TopologyError,
+)
+from .mesh import Mesh, MeshQuality
+from .refinement import refine
+
+__all__ = [
+    "BlockMeshError",
+    "BlockMeshWarning",
+    "Domain",
+    "DomainError",
+    "DomainFormatError",
+    "ExportError",
+    "ExpressionError",
+    "Mesh",
+    "MeshQuality",
+    "ResourceError",
+    "TopologyError",
+    "load_domain",
+    "parse_polygon_string",
+    "refine",
+]
+__version__ = "0.1.0"

@@ -1,0 +1,64 @@
+"""The ``blockmesh`` command line: ``main(argv) -> exit code``.
+
+Each subcommand lives in :mod:`blockmesh.commands` as a module with ``register(subparsers)`` and
+``run(args) -> int``. Only this layer prints or exits: library errors (:class:`BlockMeshError`)
+become one readable line on stderr and exit code 2; ``--json`` prints exactly one JSON object on
+stdout.
+
+Examples
+--------
+>>> main(["catalogue", "--json"]) == 0  # doctest: +ELLIPSIS
+{...}
+True
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from collections.abc import Sequence
+
+from . import __version__
+from .commands import COMMANDS
+from .errors import BlockMeshError
+
+__all__ = ["build_parser", "main"]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand registered."""
+    parser = argparse.ArgumentParser(
+        prog="blockmesh",
+        description="Multi-block all-pentagonal meshes of 2-D domains: check, show, mesh, "
+        "integrate, export.",
+    )
+    parser.add_argument("--version", action="version", version=f"blockmesh {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for command in COMMANDS:
+        command.register(subparsers)
+    return parser
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"blockmesh: warning: {message}", file=sys.stderr)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the process exit code (0 on success)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        try:
+            return int(args.run(args))
+        except BlockMeshError as error:
+            print(f"blockmesh {args.command}: error: {error}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print(f"blockmesh {args.command}: interrupted", file=sys.stderr)
+            return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

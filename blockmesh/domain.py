@@ -1,0 +1,504 @@
+"""The validated multi-block domain every mesh starts from.
+
+A :class:`Domain` is a set of strictly convex, counter-clockwise pentagonal blocks meeting edge to
+edge, with every boundary edge in exactly one named patch and every block in one named region. It
+is built from a convex polygon (decomposed automatically), from explicit blocks, or from a TOML
+file of either form (:mod:`blockmesh.tomlio`), and it is checked on construction: an invalid
+domain never exists.
+
+Examples
+--------
+>>> from blockmesh import Domain
+>>> d = Domain.from_polygon([(0, 0), (2, 0), (3, 1), (1, 3), (0, 2)], name="usp")
+>>> d.blocks.tolist(), d.area
+([[0, 1, 2, 3, 4]], 6.0)
+>>> d.mesh(2).n_cells
+36
+"""
+
+from __future__ import annotations
+
+import difflib
+import numbers
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from .errors import DomainError, DomainFormatError
+from .geometry import interior_angles, signed_area
+from .mesh import Mesh
+from .refinement import cell_neighbours
+from .tomlio import dumps_domain, parse_domain_text, read_domain_file
+from .validate import (
+    check_block_shapes,
+    check_polygon,
+    check_topology,
+    parse_blocks,
+    parse_points,
+    resolve_patches,
+    resolve_regions,
+)
+
+__all__ = ["Domain", "load_domain", "parse_polygon_string"]
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Domain:
+    """A conforming block mesh of strictly convex pentagons, with patches and regions.
+
+    Build one with :meth:`from_polygon`, :meth:`from_blocks`, :meth:`from_toml` or
+    :func:`load_domain`; the constructor checks everything again, so a Domain is always valid.
+
+    Attributes
+    ----------
+    name : str
+    vertices : ndarray (K, 2) float64
+    blocks : ndarray (B, 5) int64
+        Vertex ids of each block, counter-clockwise.
+    boundary_edges : ndarray (Eb, 2) int64
+        Boundary edges in loops, each oriented with the domain on its left.
+    boundary_patch : ndarray (Eb,) int64
+        Index into ``patch_names`` of each boundary edge.
+    patch_names : tuple of str
+    region : ndarray (B,) int64
+        Index into ``region_names`` of each block.
+    region_names : tuple of str
+    description : str
+    layout : str
+        How the blocks came about: ``"blocks"`` (given) or the decomposition used.
+    """
+
+    name: str
+    vertices: np.ndarray
+    blocks: np.ndarray
+    boundary_edges: np.ndarray
+    boundary_patch: np.ndarray
+    patch_names: tuple[str, ...]
+    region: np.ndarray
+    region_names: tuple[str, ...]
+    description: str = ""
+    layout: str = "blocks"
+    _neighbour: np.ndarray = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        vertices = parse_points(self.vertices, "vertex")
+        blocks = parse_blocks(self.blocks, vertices.shape[0])
+        check_block_shapes(vertices, blocks, repair=False)
+        neighbour = _neighbours(blocks, vertices.shape[0])
+        check_topology(vertices, blocks, neighbour)
+        boundary = _boundary_loops(blocks, neighbour)
+        given = np.asarray(self.boundary_edges, dtype=np.int64).reshape(-1, 2)
+        if not np.array_equal(given, boundary):
+            raise DomainError(
+                "boundary_edges must be the blocks' boundary edges in loop order; build domains "
+                "with Domain.from_blocks() or Domain.from_polygon()"
+            )
+        patch = np.asarray(self.boundary_patch, dtype=np.int64)
+        region = np.asarray(self.region, dtype=np.int64)
+        if patch.shape != (boundary.shape[0],) or not np.all(
+            (patch >= 0) & (patch < len(self.patch_names))
+        ):
+            raise DomainError("every boundary edge needs one patch (an index into patch_names)")
+        if region.shape != (blocks.shape[0],) or not np.all(
+            (region >= 0) & (region < len(self.region_names))
+        ):
+            raise DomainError("every block needs one region (an index into region_names)")
+        set_(self, "vertices", _readonly(vertices))
+        set_(self, "blocks", _readonly(blocks))
+        set_(self, "boundary_edges", _readonly(boundary))
+        set_(self, "boundary_patch", _readonly(patch))
+        set_(self, "region", _readonly(region))
+        set_(self, "patch_names", tuple(self.patch_names))
+        set_(self, "region_names", tuple(self.region_names))
+        set_(self, "_neighbour", _readonly(neighbour))
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_blocks(
+        cls,
+        vertices: Any,
+        blocks: Any,
+        patches: Mapping[str, Iterable] | None = None,
+        regions: Mapping[str, Iterable[int]] | None = None,
+        *,
+        name: str = "blocks",
+        description: str = "",
+        layout: str = "blocks",
+    ) -> Domain:
+        """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
+
+        Parameters
+        ----------
+        vertices : sequence of (x, y)
+        blocks : sequence of 5 vertex ids each
+            Clockwise blocks are reversed (first vertex kept) with a warning.
+        patches : mapping of name to a list of (a, b) boundary edges, optional
+            Unlisted boundary edges go to the patch ``"boundary"``.
+        regions : mapping of name to a list of block ids, optional
+            Unlisted blocks go to the region ``"domain"``.
+
+        Examples
+        --------
+        >>> d = Domain.from_blocks(
+        ...     [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2), (4, 0), (4.5, 1), (4, 2)],
+        ...     [(0, 1, 2, 3, 4), (1, 5, 6, 7, 2)],
+        ...     patches={"inlet": [(4, 0)]},
+        ... )
+        >>> d.patch_names, len(d.patches["boundary"])
+        (('inlet', 'boundary'), 7)
+        """
+        points = parse_points(vertices, "vertex")
+        block_ids = parse_blocks(blocks, points.shape[0])
+        block_ids = check_block_shapes(points, block_ids, repair=True)
+        neighbour = _neighbours(block_ids, points.shape[0])
+        check_topology(points, block_ids, neighbour)
+        boundary = _boundary_loops(block_ids, neighbour)
+        owners = _edge_owners(block_ids)
+        patch_names, patch = resolve_patches(boundary, patches, owners)
+        region_names, region = resolve_regions(block_ids.shape[0], regions)
+        return cls(
+            name=_check_text(name, "name"),
+            vertices=points,
+            blocks=block_ids,
+            boundary_edges=boundary,
+            boundary_patch=patch,
+            patch_names=patch_names,
+            region=region,
+            region_names=region_names,
+            description=_check_text(description, "description"),
+            layout=layout,
+        )
+
+    @classmethod
+    def from_polygon(
+        cls,
+        coords: Any,
+        *,
+        name: str = "polygon",
+        patches: Mapping[str, Iterable[int]] | None = None,
+        description: str = "",
+    ) -> Domain:
+        """A convex polygon with any n >= 3 corners, decomposed into pentagonal blocks.
+
+        Parameters
+        ----------
+        coords : sequence of (x, y)
+            The corners in order (clockwise is reversed with a warning; a repeated closing
+            corner and straight corners are dropped with a warning).
+        patches : mapping of name to a list of polygon edge indices, optional
+            Edge i runs from corner i to corner i+1 (as given). Unlisted edges go to
+            ``"boundary"``.
+
+        Examples
+        --------
+        >>> d = Domain.from_polygon([(0, 0), (1, 0), (1, 1), (0, 1)], patches={"bottom": [0]})
+        >>> d.n_blocks, d.layout, d.patch_names
+        (8, 'quad-template', ('bottom', 'boundary'))
+        """
+        from .decompose import decompose_convex_polygon
+
+        points = parse_points(coords, "polygon vertex")
+        edge_patch = _polygon_edge_patches(patches, points.shape[0])
+        polygon, source = check_polygon(points, edge_patch)
+        decomposition = decompose_convex_polygon(polygon)
+        named: dict[str, list[tuple[int, int]]] = {}
+        for chain, input_edge in zip(decomposition.edge_chains, source, strict=True):
+            patch_name = edge_patch[input_edge] if edge_patch is not None else None
+            if patch_name is not None:
+                pairs = zip(chain[:-1].tolist(), chain[1:].tolist(), strict=True)
+                named.setdefault(patch_name, []).extend(pairs)
+        # Keep the user's patch order.
+        order = list(patches or {})
+        named = {k: named[k] for k in order if k in named}
+        return cls.from_blocks(
+            decomposition.vertices,
+            decomposition.blocks,
+            named,
+            name=name,
+            description=description,
+            layout=decomposition.layout,
+        )
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Domain:
+        """Read a domain file (polygon or explicit blocks); see :mod:`blockmesh.tomlio`."""
+        return _from_raw(read_domain_file(path), source=str(path))
+
+    @classmethod
+    def from_toml_text(cls, text: str, *, name: str = "domain") -> Domain:
+        """A domain from TOML text (as in a domain file).
+
+        Examples
+        --------
+        >>> Domain.from_toml_text("polygon = [[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]]").area
+        6.0
+        """
+        raw = parse_domain_text(text, source="<text>")
+        raw.setdefault("name", name)
+        return _from_raw(raw, source="<text>")
+
+    # ------------------------------------------------------------------ output
+    def to_toml(self) -> str:
+        """The domain as TOML text (explicit blocks); :meth:`from_toml_text` reads it back."""
+        return dumps_domain(self)
+
+    def write_toml(self, path: str | Path) -> Path:
+        """Write :meth:`to_toml` to ``path`` atomically (temporary file, then rename)."""
+        path = Path(path)
+        temporary = path.with_name(f".{path.name}.tmp")
+        try:
+            temporary.write_text(self.to_toml(), encoding="utf-8")
+            temporary.replace(path)
+        finally:
+            temporary.unlink(missing_ok=True)
+        return path
+
+    # ------------------------------------------------------------------ measures
+    @property
+    def n_blocks(self) -> int:
+        """Number of blocks B."""
+        return int(self.blocks.shape[0])
+
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices K."""
+        return int(self.vertices.shape[0])
+
+    @property
+    def area(self) -> float:
+        """Total area of the blocks."""
+        return float(np.sum(self.block_areas()))
+
+    def block_areas(self) -> np.ndarray:
+        """Area of each block, shape (B,)."""
+        return signed_area(self.vertices[self.blocks])
+
+    def block_angles(self) -> np.ndarray:
+        """Interior angles of each block in degrees, shape (B, 5)."""
+        return interior_angles(self.vertices[self.blocks])
+
+    @property
+    def n_shared_edges(self) -> int:
+        """Number of edges shared by two blocks."""
+        return int(np.count_nonzero(self._neighbour >= 0)) // 2
+
+    @property
+    def patches(self) -> Mapping[str, np.ndarray]:
+        """Boundary edges (E, 2) of each patch, by name (read-only view)."""
+        return MappingProxyType(
+            {
+                name: self.boundary_edges[self.boundary_patch == k]
+                for k, name in enumerate(self.patch_names)
+            }
+        )
+
+    @property
+    def regions(self) -> Mapping[str, np.ndarray]:
+        """Block ids of each region, by name (read-only view)."""
+        return MappingProxyType(
+            {name: np.flatnonzero(self.region == k) for k, name in enumerate(self.region_names)}
+        )
+
+    def block_graph(self):
+        """The networkx graph of blocks and shared edges; see :func:`blockmesh.blockgraph.block_graph`."""
+        from .blockgraph import block_graph
+
+        return block_graph(self)
+
+    # ------------------------------------------------------------------ meshing
+    def block_mesh(self) -> Mesh:
+        """The blocks themselves as a level-0 :class:`~blockmesh.mesh.Mesh`."""
+        n = self.n_blocks
+        return Mesh(
+            points=self.vertices,
+            cells=self.blocks,
+            block_id=np.arange(n),
+            parent=np.full(n, -1),
+            boundary_edges=self.boundary_edges,
+            boundary_patch=self.boundary_patch,
+            patch_names=self.patch_names,
+            region=self.region,
+            region_names=self.region_names,
+            level=0,
+            name=self.name,
+        )
+
+    def mesh(self, level: int, **options: Any) -> Mesh:
+        """Refine the blocks ``level`` times; options as :func:`blockmesh.refine`."""
+        from .refinement import refine
+
+        return refine(self, level, **options)
+
+
+# ---------------------------------------------------------------------- helpers
+def _check_text(value: object, what: str) -> str:
+    if not isinstance(value, str):
+        raise DomainFormatError(f"the domain's {what} must be a string, got {value!r}")
+    return value
+
+
+def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
+    from .errors import BlockMeshError, TopologyError
+
+    try:
+        return cell_neighbours(blocks, n_vertices)
+    except BlockMeshError as error:
+        raise TopologyError(f"{error}: the blocks overlap there") from None
+
+
+def _edge_owners(blocks: np.ndarray) -> dict[tuple[int, int], list[int]]:
+    owners: dict[tuple[int, int], list[int]] = {}
+    for b, block in enumerate(blocks.tolist()):
+        for k in range(5):
+            a, c = block[k], block[(k + 1) % 5]
+            owners.setdefault((min(a, c), max(a, c)), []).append(b)
+    return owners
+
+
+def _boundary_loops(blocks: np.ndarray, neighbour: np.ndarray) -> np.ndarray:
+    """Boundary edges chained into loops, each loop starting at its lowest vertex id.
+
+    Loops are listed by their lowest vertex id; where several boundary edges leave one vertex (two
+    loops touching there) the walk takes the lowest-numbered remaining edge.
+    """
+    b, e = np.nonzero(neighbour < 0)
+    start = blocks[b, e]
+    stop = blocks[b, (e + 1) % 5]
+    leaving: dict[int, list[int]] = {}
+    for k in np.lexsort((stop, start)).tolist():
+        leaving.setdefault(int(start[k]), []).append(k)
+    used = np.zeros(start.size, dtype=bool)
+    ordered: list[int] = []
+    for first in np.lexsort((stop, start)).tolist():
+        k = first
+        while not used[k]:
+            used[k] = True
+            ordered.append(k)
+            candidates = [j for j in leaving.get(int(stop[k]), []) if not used[j]]
+            if not candidates:
+                break
+            k = candidates[0]
+    return np.stack([start[ordered], stop[ordered]], axis=1).reshape(-1, 2)
+
+
+def _polygon_edge_patches(
+    patches: Mapping[str, Iterable[int]] | None, n_edges: int
+) -> list[str | None] | None:
+    if not patches:
+        return None
+    if not isinstance(patches, Mapping):
+        raise DomainFormatError(
+            f"patches must map patch names to polygon edge indices, got {type(patches).__name__}"
+        )
+    edge_patch: list[str | None] = [None] * n_edges
+    for patch_name, edges in patches.items():
+        if isinstance(edges, str | bytes) or not isinstance(edges, Iterable):
+            raise DomainFormatError(
+                f"patch {patch_name!r} must be a list of polygon edge indices, got {edges!r}"
+            )
+        for edge in edges:
+            if not isinstance(edge, numbers.Integral) or isinstance(edge, bool):
+                raise DomainFormatError(
+                    f"patch {patch_name!r} has {edge!r}; for a polygon, a patch lists edge "
+                    f"indices 0..{n_edges - 1} (edge i runs from corner i to corner i+1)"
+                )
+            if not 0 <= edge < n_edges:
+                raise DomainError(
+                    f"patch {patch_name!r} names edge {edge}, but the polygon's edges are "
+                    f"numbered 0..{n_edges - 1}"
+                )
+            if edge_patch[edge] is not None:
+                raise DomainError(
+                    f"polygon edge {edge} is in patches {edge_patch[edge]!r} and "
+                    f"{patch_name!r}; an edge belongs to one patch"
+                )
+            edge_patch[edge] = str(patch_name)
+    return edge_patch
+
+
+def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
+    name = raw.get("name", "domain")
+    description = raw.get("description", "")
+    try:
+        if "polygon" in raw:
+            return Domain.from_polygon(
+                raw["polygon"], name=name, patches=raw.get("patches"), description=description
+            )
+        return Domain.from_blocks(
+            raw["vertices"],
+            raw["blocks"],
+            raw.get("patches"),
+            raw.get("regions"),
+            name=name,
+            description=description,
+        )
+    except DomainError as error:
+        raise type(error)(f"{source}: {error}") from None
+
+
+def parse_polygon_string(text: str) -> np.ndarray:
+    """Parse ``"x1,y1 x2,y2 ..."`` (the ``--polygon`` option) into an (n, 2) array.
+
+    Examples
+    --------
+    >>> parse_polygon_string("0,0 1,0 0,1").tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+    >>> parse_polygon_string("0,0 1;0")
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.DomainFormatError: --polygon: token 2 '1;0' is not a pair 'x,y' of numbers (write the corners as "x1,y1 x2,y2 ...")
+    """
+    tokens = text.split()
+    points = []
+    for k, token in enumerate(tokens, start=1):
+        parts = token.split(",")
+        try:
+            if len(parts) != 2:
+                raise ValueError
+            points.append((float(parts[0]), float(parts[1])))
+        except ValueError:
+            raise DomainFormatError(
+                f"--polygon: token {k} {token!r} is not a pair 'x,y' of numbers (write the "
+                'corners as "x1,y1 x2,y2 ...")'
+            ) from None
+    if not points:
+        raise DomainFormatError('--polygon is empty; write the corners as "x1,y1 x2,y2 ..."')
+    return np.array(points, dtype=np.float64)
+
+
+def load_domain(name_or_path: str | Path) -> Domain:
+    """A catalogue domain by name, or a domain file by path.
+
+    Examples
+    --------
+    >>> load_domain("sp").vertices.tolist()
+    [[-1.0, -1.0], [1.0, -1.0], [2.0, 0.0], [0.0, 1.0], [-2.0, 0.0]]
+    """
+    from .catalogue import catalogue_names, catalogue_path
+
+    text = str(name_or_path)
+    path = Path(text)
+    if path.suffix == ".toml" or path.exists() or "/" in text:
+        if not path.exists():
+            raise DomainFormatError(f"{path}: no such file")
+        return Domain.from_toml(path)
+    names = catalogue_names()
+    if text not in names:
+        close = difflib.get_close_matches(text, names, n=3)
+        hint = f" Did you mean {', '.join(close)}?" if close else ""
+        raise DomainFormatError(
+            f"{text!r} is neither a catalogue domain nor a .toml file.{hint} The catalogue has: "
+            f"{', '.join(names)} (see 'blockmesh catalogue')"
+        )
+    return Domain.from_toml(catalogue_path(text))

@@ -1,0 +1,57 @@
+"""Typed errors and warnings raised by blockmesh.
+
+Every failure the library detects is a :class:`BlockMeshError`; the subclasses say which stage
+found it. Messages name the offending vertex, edge, block, key or token, with coordinates, and say
+how to fix the input. The command line prints the message (no traceback) and exits non-zero.
+
+Examples
+--------
+>>> from blockmesh.errors import BlockMeshError, DomainError
+>>> issubclass(DomainError, BlockMeshError)
+True
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "BlockMeshError",
+    "BlockMeshWarning",
+    "DomainError",
+    "DomainFormatError",
+    "ExportError",
+    "ExpressionError",
+    "ResourceError",
+    "TopologyError",
+]
+
+
+class BlockMeshError(Exception):
+    """Base class of every error blockmesh raises on bad input or impossible requests."""
+
+
+class DomainError(BlockMeshError):
+    """The geometry of a domain is invalid (coordinates, orientation, convexity, area)."""
+
+
+class DomainFormatError(DomainError):
+    """A domain file or inline polygon cannot be parsed (malformed TOML, wrong keys or types)."""
+
+
+class TopologyError(BlockMeshError):
+    """Blocks do not form a conforming, connected block mesh (overlaps, gaps, hanging nodes)."""
+
+
+class ExpressionError(BlockMeshError):
+    """A function expression is malformed, unsafe or not what the operation needs."""
+
+
+class ExportError(BlockMeshError):
+    """A mesh cannot be written or read in the requested format."""
+
+
+class ResourceError(BlockMeshError):
+    """A request needs more memory (or other resources) than allowed."""
+
+
+class BlockMeshWarning(UserWarning):
+    """Input was accepted after a repair that the user should know about."""

@@ -1,0 +1,140 @@
+"""Polygon predicates and measures on coordinate arrays.
+
+Every function takes polygons as an array of shape ``(..., K, 2)`` (any number of leading axes,
+``K`` corners each) and works on all of them at once, without Python loops. Corners are taken in the
+order given; "interior" angles assume counter-clockwise order.
+
+Examples
+--------
+>>> import numpy as np
+>>> square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+>>> float(signed_area(square))
+1.0
+>>> interior_angles(square).round(6).tolist()
+[90.0, 90.0, 90.0, 90.0]
+>>> bool(is_strictly_convex(square))
+True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "COLLINEAR_SIN_TOL",
+    "corner_sines",
+    "interior_angles",
+    "is_strictly_convex",
+    "polygon_diameter",
+    "signed_area",
+    "vertex_mean",
+]
+
+#: A corner whose turn has ``|sin| <= COLLINEAR_SIN_TOL`` counts as straight (180 degrees).
+COLLINEAR_SIN_TOL = 1e-9
+
+
+def signed_area(polygons: np.ndarray) -> np.ndarray:
+    """Signed area of each polygon by the shoelace formula (positive when counter-clockwise).
+
+    Parameters
+    ----------
+    polygons : ndarray, shape (..., K, 2)
+
+    Returns
+    -------
+    ndarray, shape (...)
+
+    Examples
+    --------
+    >>> float(signed_area(np.array([[0, 0], [0, 1], [1, 0]], dtype=float)))
+    -0.5
+    """
+    p = np.asarray(polygons, dtype=np.float64)
+    x, y = p[..., 0], p[..., 1]
+    xn, yn = np.roll(x, -1, axis=-1), np.roll(y, -1, axis=-1)
+    return 0.5 * np.sum(x * yn - xn * y, axis=-1)
+
+
+def vertex_mean(polygons: np.ndarray) -> np.ndarray:
+    """Mean of each polygon's corners (the paper's centre point ``p``), shape ``(..., 2)``.
+
+    Examples
+    --------
+    >>> vertex_mean(np.array([[0, 0], [2, 0], [2, 2], [0, 2]], dtype=float)).tolist()
+    [1.0, 1.0]
+    """
+    return np.asarray(polygons, dtype=np.float64).mean(axis=-2)
+
+
+def _edge_vectors(polygons: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    p = np.asarray(polygons, dtype=np.float64)
+    incoming = p - np.roll(p, 1, axis=-2)  # from the previous corner to this one
+    outgoing = np.roll(p, -1, axis=-2) - p  # from this corner to the next
+    return incoming, outgoing
+
+
+def corner_sines(polygons: np.ndarray) -> np.ndarray:
+    """Sine of the turn at each corner: positive for a left (convex, CCW) turn, 0 when straight.
+
+    Returns ``nan`` at a corner with a zero-length adjacent edge.
+
+    Examples
+    --------
+    >>> corner_sines(np.array([[0, 0], [1, 0], [2, 0], [1, 1]], dtype=float)).round(6).tolist()
+    [0.707107, 0.0, 0.707107, 1.0]
+    """
+    incoming, outgoing = _edge_vectors(polygons)
+    cross = incoming[..., 0] * outgoing[..., 1] - incoming[..., 1] * outgoing[..., 0]
+    norms = np.hypot(incoming[..., 0], incoming[..., 1]) * np.hypot(outgoing[..., 0], outgoing[..., 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(norms > 0, cross / np.where(norms > 0, norms, 1.0), np.nan)
+
+
+def interior_angles(polygons: np.ndarray) -> np.ndarray:
+    """Interior angle at each corner in degrees, for counter-clockwise polygons.
+
+    A convex corner is below 180 degrees, a reflex one above.
+
+    Examples
+    --------
+    >>> tri = np.array([[0, 0], [1, 0], [0, 1]], dtype=float)
+    >>> interior_angles(tri).round(6).tolist()
+    [90.0, 45.0, 45.0]
+    """
+    incoming, outgoing = _edge_vectors(polygons)
+    cross = incoming[..., 0] * outgoing[..., 1] - incoming[..., 1] * outgoing[..., 0]
+    dot = incoming[..., 0] * outgoing[..., 0] + incoming[..., 1] * outgoing[..., 1]
+    return 180.0 - np.degrees(np.arctan2(cross, dot))
+
+
+def is_strictly_convex(polygons: np.ndarray, sin_tol: float = COLLINEAR_SIN_TOL) -> np.ndarray:
+    """Whether each polygon is counter-clockwise and strictly convex.
+
+    Every corner must turn left by more than ``sin_tol`` (no straight or reflex corners, no
+    repeated corners) and the corners must go around exactly once (no star shapes).
+
+    Examples
+    --------
+    >>> pent = np.array([[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]], dtype=float)
+    >>> bool(is_strictly_convex(pent)), bool(is_strictly_convex(pent[::-1]))
+    (True, False)
+    """
+    sines = corner_sines(polygons)
+    left_turns = np.all(np.nan_to_num(sines, nan=-1.0) > sin_tol, axis=-1)
+    # Left turns everywhere plus a total turning of exactly 360 degrees rules out pentagrams.
+    turning = np.sum(180.0 - interior_angles(polygons), axis=-1)
+    return left_turns & np.isclose(turning, 360.0, atol=1e-6)
+
+
+def polygon_diameter(polygons: np.ndarray) -> np.ndarray:
+    """Largest distance between two corners of each polygon, shape ``(...)``.
+
+    Examples
+    --------
+    >>> float(polygon_diameter(np.array([[0, 0], [3, 0], [3, 4]], dtype=float)))
+    5.0
+    """
+    p = np.asarray(polygons, dtype=np.float64)
+    diff = p[..., :, None, :] - p[..., None, :, :]
+    return np.sqrt(np.max(np.sum(diff * diff, axis=-1), axis=(-2, -1)))

@@ -1,0 +1,177 @@
+"""Pictures of domains and meshes (matplotlib, Agg backend, imported only when drawing).
+
+Examples
+--------
+>>> import tempfile, pathlib, blockmesh
+>>> with tempfile.TemporaryDirectory() as tmp:
+...     path = plot_domain(blockmesh.load_domain("square-cut"), pathlib.Path(tmp) / "d.png")
+...     path.stat().st_size > 0
+True
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ExportError
+
+__all__ = ["plot_domain", "plot_mesh", "plot_quality"]
+
+#: Meshes with at most this many cells get node and cell numbers (like the paper's Figs. 2-4).
+LABEL_LIMIT = 400
+_PATCH_COLOURS = ("#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2")
+_REGION_SHADES = ("#f2f2f2", "#fde9c9", "#dff0d8", "#dbe9f6", "#f4dcec", "#e8e1f3")
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path: str | Path) -> Path:
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise ExportError(f"cannot write {path}: the folder {path.parent} does not exist")
+    if path.suffix.lower() not in {".png", ".pdf", ".svg"}:
+        raise ExportError(f"cannot draw {path}: pictures are .png, .pdf or .svg files")
+    temporary = path.with_name(f".{path.stem}.tmp{path.suffix}")
+    try:
+        fig.savefig(temporary, dpi=150, bbox_inches="tight")
+        temporary.replace(path)
+    finally:
+        temporary.unlink(missing_ok=True)
+        _pyplot().close(fig)
+    return path
+
+
+def _draw_patches(ax, points, edges, patch, names) -> None:
+    from matplotlib.collections import LineCollection
+
+    for k, name in enumerate(names):
+        segments = points[edges[patch == k]]
+        if segments.size:
+            colour = _PATCH_COLOURS[k % len(_PATCH_COLOURS)]
+            ax.add_collection(LineCollection(segments, colors=colour, linewidths=2.5, label=name))
+
+
+def _frame(ax, points, title: str) -> None:
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    pad = 0.04 * float(np.max(hi - lo))
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_title(title)
+
+
+def plot_domain(domain, path: str | Path) -> Path:
+    """Draw the blocks (numbered), vertices (numbered) and patches (coloured, with a legend).
+
+    Regions are shaded. Returns the path written.
+    """
+    from matplotlib.collections import PolyCollection
+
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 7))
+    xy = domain.vertices[domain.blocks]
+    shades = [_REGION_SHADES[r % len(_REGION_SHADES)] for r in domain.region]
+    ax.add_collection(PolyCollection(xy, facecolors=shades, edgecolors="0.35", linewidths=1.0))
+    _draw_patches(
+        ax, domain.vertices, domain.boundary_edges, domain.boundary_patch, domain.patch_names
+    )
+    centres = xy.mean(axis=1)
+    size = 11 if domain.n_blocks <= 30 else 7
+    for b, (x, y) in enumerate(centres):
+        ax.text(x, y, str(b), ha="center", va="center", fontsize=size, weight="bold", color="0.2")
+    ax.plot(domain.vertices[:, 0], domain.vertices[:, 1], "o", ms=3, color="k")
+    if domain.n_vertices <= 150:
+        for v, (x, y) in enumerate(domain.vertices):
+            ax.annotate(
+                str(v), (x, y), xytext=(3, 3), textcoords="offset points", fontsize=7, color="b"
+            )
+    ax.legend(title="patches", loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    if len(domain.region_names) > 1:
+        from matplotlib.patches import Patch
+
+        handles = [
+            Patch(facecolor=_REGION_SHADES[k % len(_REGION_SHADES)], edgecolor="0.35", label=n)
+            for k, n in enumerate(domain.region_names)
+        ]
+        fig.legend(handles=handles, title="regions", loc="lower left", bbox_to_anchor=(0.91, 0.1))
+    _frame(
+        ax,
+        domain.vertices,
+        f"{domain.name}: {domain.n_blocks} blocks, {domain.n_vertices} vertices "
+        f"(blocks bold, vertices blue)",
+    )
+    return _save(fig, path)
+
+
+def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
+    """Draw the cells (shaded by block), the patches, and numbers when few enough to read.
+
+    ``labels=None`` numbers nodes (blue) and cells (black) when there are at most
+    ``LABEL_LIMIT`` cells.
+    """
+    from matplotlib.collections import PolyCollection
+
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 8))
+    xy = mesh.points[mesh.cells]
+    n_blocks = int(mesh.block_id.max()) + 1 if mesh.n_cells else 1
+    palette = plt.get_cmap("Pastel1" if n_blocks <= 9 else "tab20")
+    faces = palette((mesh.block_id % palette.N) / max(palette.N - 1, 1))
+    width = 0.8 if mesh.n_cells <= 5000 else 0.3 if mesh.n_cells <= 50000 else 0.1
+    ax.add_collection(PolyCollection(xy, facecolors=faces, edgecolors="0.25", linewidths=width))
+    _draw_patches(ax, mesh.points, mesh.boundary_edges, mesh.boundary_patch, mesh.patch_names)
+    if labels is None:
+        labels = mesh.n_cells <= LABEL_LIMIT
+    if labels:
+        size = 8 if mesh.n_cells <= 40 else 5 if mesh.n_cells <= 250 else 3.5
+        for c, (x, y) in enumerate(xy.mean(axis=1)):
+            ax.text(x, y, str(c), ha="center", va="center", fontsize=size, color="k")
+        for v, (x, y) in enumerate(mesh.points):
+            ax.text(x, y, str(v), ha="left", va="bottom", fontsize=size * 0.85, color="b")
+    ax.legend(title="patches", loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    _frame(
+        ax,
+        mesh.points,
+        f"{mesh.name or 'mesh'}, level {mesh.level}: {mesh.n_cells:,} cells, "
+        f"{mesh.n_points:,} nodes",
+    )
+    return _save(fig, path)
+
+
+def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 18) -> Path:
+    """Histograms of the cells' interior angles and aspect ratios (diameter**2 / area)."""
+    from .geometry import interior_angles, signed_area
+
+    plt = _pyplot()
+    angle_bins = np.linspace(0.0, 180.0, 91)
+    angle_counts = np.zeros(angle_bins.size - 1)
+    aspects = []
+    for start in range(0, mesh.n_cells, chunk):
+        xy = mesh.points[mesh.cells[start : start + chunk]]
+        angle_counts += np.histogram(interior_angles(xy), bins=angle_bins)[0]
+        diff = xy[:, :, None, :] - xy[:, None, :, :]
+        diam2 = np.max(np.einsum("mijk,mijk->mij", diff, diff), axis=(1, 2))
+        aspects.append(diam2 / signed_area(xy))
+    aspect = np.concatenate(aspects) if aspects else np.zeros(0)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    left.stairs(angle_counts, angle_bins, fill=True, color="#4c72b0")
+    left.axvline(108.0, color="k", lw=0.8, ls="--", label="regular pentagon (108°)")
+    left.set_xlabel("interior angle (degrees)")
+    left.set_ylabel("corners")
+    left.legend(fontsize=8)
+    right.hist(aspect, bins=60, color="#dd8452")
+    right.axvline(2.2, color="k", lw=0.8, ls="--", label="regular pentagon (2.2)")
+    right.set_xlabel("aspect ratio: diameter² / area")
+    right.set_ylabel("cells")
+    right.legend(fontsize=8)
+    fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: quality of {mesh.n_cells:,} cells")
+    return _save(fig, path)

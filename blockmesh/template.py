@@ -1,0 +1,214 @@
+"""The refinement of one reference pentagon, numbered like the paper, built once and reused.
+
+Every node of a refined pentagon is a fixed combination of the pentagon's five corners (MATH.md
+section 1), and the paper's numbering of a single pentagon does not depend on its shape. So the
+connectivity of the refined reference pentagon and the position of its nodes on its five edges are
+computed once per level for local node ids ``0..n_L-1`` and cached; :mod:`blockmesh.refine` maps
+local ids to global ids block by block and computes coordinates level by level.
+
+Local numbering (0-based, the paper's program ``nodaladdressesforpentagon``): corners ``0..4``;
+then level by level, cells in order, each cell numbers the midpoints of its edges ``v_i -> v_i+1``
+that are not numbered yet, then its five inner points. The nodes new at level ``l`` are therefore
+the contiguous range ``n_(l-1) .. n_l - 1``, and the cells of a coarser level are a function of
+the finer ones (corner k of cell j is corner 0 of its child k).
+
+The construction tracks, for every cell edge, the cell across it (or none on the boundary); the
+walking order then decides which cell numbers a shared midpoint (the lower-numbered one) without
+sorting or hashing, in O(6^L) time and memory.
+
+Examples
+--------
+>>> t = pentagon_template(1)
+>>> t.cells.tolist()  # the paper's Fig. 2, 0-based
+[[0, 5, 10, 14, 9], [1, 6, 11, 10, 5], [2, 7, 12, 11, 6], [3, 8, 13, 12, 7], [4, 9, 14, 13, 8], [10, 11, 12, 13, 14]]
+>>> t.edge_nodes[0].tolist()  # nodes along the edge from corner 0 to corner 1
+[0, 5, 1]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+__all__ = ["CHILD_PATTERN", "LevelStep", "PentagonTemplate", "node_count", "pentagon_template"]
+
+#: Child ``k`` of a cell ``<v0..v4>`` with midpoints ``u`` and inner points ``w`` (paper eq. 1a):
+#: ``<v_k, u_k, w_k, w_(k-1), u_(k-1)>`` for k = 0..4, then ``<w_0..w_4>``. Entries index the
+#: 15 points ``[v0..v4, u0..u4, w0..w4]``.
+CHILD_PATTERN = np.array(
+    [[k, 5 + k, 10 + k, 10 + (k - 1) % 5, 5 + (k - 1) % 5] for k in range(5)]
+    + [[10, 11, 12, 13, 14]],
+    dtype=np.int64,
+)
+
+_K = np.arange(5)
+# Neighbour of child edge (c, e) inside the same parent, as the flat index 5*c + e' of the facing
+# (child, edge), or -1 where the edge is half of a parent edge (found across the parent's edge).
+_SIBLING = np.full((6, 5), -1, dtype=np.int64)
+_SIBLING[:5, 1] = 5 * ((_K + 1) % 5) + 3  # (u_k, w_k)     faces child k+1, edge 3
+_SIBLING[:5, 2] = 5 * 5 + (_K - 1) % 5  # (w_k, w_k-1)   faces the centre child
+_SIBLING[:5, 3] = 5 * ((_K - 1) % 5) + 1  # (w_k-1, u_k-1) faces child k-1, edge 1
+_SIBLING[5, :] = 5 * ((_K + 1) % 5) + 2  # (w_m, w_m+1)   faces child m+1, edge 2
+
+
+def node_count(level: int) -> int:
+    """Nodes of one pentagon refined ``level`` times: ``1 + (3/2) 6^L + (5/2) 2^L``.
+
+    Examples
+    --------
+    >>> [node_count(level) for level in range(6)]
+    [5, 15, 65, 345, 1985, 11745]
+    """
+    return (2 + 3 * 6**level + 5 * 2**level) // 2
+
+
+@dataclass(frozen=True)
+class LevelStep:
+    """How the coordinates of the nodes new at one level follow from the previous level.
+
+    Attributes
+    ----------
+    corners : ndarray (5, C) int64
+        Corner ``i`` of every cell of the previous level (corner-major, so that the arithmetic runs
+        on contiguous rows).
+    source : ndarray (n_l - n_(l-1),) int64
+        For each new node in numbering order, its position in ``[u.ravel(), w.ravel()]`` where
+        ``u`` and ``w`` (each (5, C)) are the midpoints and inner points of the previous level's
+        cells.
+    """
+
+    corners: np.ndarray
+    source: np.ndarray
+
+
+@dataclass(frozen=True)
+class PentagonTemplate:
+    """One pentagon refined ``level`` times, in the paper's numbering (arrays are read-only).
+
+    Attributes
+    ----------
+    level : int
+    cells : ndarray (6^L, 5) int64
+        Local node ids of the cells, counter-clockwise; the children of cell j of the previous
+        level are rows 6j..6j+5 in the paper's child order.
+    edge_nodes : ndarray (5, 2^L + 1) int64
+        ``edge_nodes[e]`` lists the nodes on the edge from corner e to corner e+1, in order.
+    edge_of_node : ndarray (n_L,) int8
+        For a node strictly inside edge e: e; for the corners: -2; for interior nodes: -1.
+    steps : tuple of LevelStep
+        ``steps[l - 1]`` computes the coordinates of the nodes new at level ``l``.
+    """
+
+    level: int
+    cells: np.ndarray
+    edge_nodes: np.ndarray
+    edge_of_node: np.ndarray
+    steps: tuple[LevelStep, ...]
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of local nodes ``n_L``."""
+        return node_count(self.level)
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+def _refine_step(parents, neighbour, boundary, n_old, *, want_neighbours):
+    """One level: number new nodes, build children, their neighbours and boundary segments.
+
+    ``neighbour[j, i]`` is ``5 * j' + i'`` for the cell edge (j', i') across edge i of cell j, or
+    -1 on the outer boundary. Every step is a handful of whole-array operations.
+    """
+    n_parents = parents.shape[0]
+    row = np.arange(n_parents)[:, None]
+    # The lower-numbered of the two cells sharing an edge numbers its midpoint.
+    first = (neighbour < 0) | (neighbour >= 5 * (row + 1))
+
+    # Walking order: parent j numbers its first-seen midpoints (in edge order) then 5 inner points.
+    counts = np.add.reduce(first, axis=1, dtype=np.int64) + 5
+    base = np.cumsum(counts) - counts + n_old
+    mid_rank = base[:, None] + (np.cumsum(first, axis=1) - first)
+    u = np.where(first, mid_rank, mid_rank.ravel()[np.maximum(neighbour, 0)])
+    w = (base + counts - 5)[:, None] + _K
+
+    # Where each new node's coordinates come from: u[i, j] is at i*C + j, w[i, j] at 5C + i*C + j.
+    source = np.empty(5 * n_parents + int(np.count_nonzero(first)), dtype=np.int64)
+    position = _K * n_parents + row  # (C, 5): i*C + j
+    source[mid_rank[first] - n_old] = position[first]
+    source[(w - n_old).ravel()] = (position + 5 * n_parents).ravel()
+
+    cells = np.empty((n_parents, 6, 5), dtype=np.int64)
+    cells[:, :5, 0] = parents
+    cells[:, :5, 1] = u
+    cells[:, :5, 2] = w
+    cells[:, :5, 3] = np.roll(w, 1, axis=1)
+    cells[:, :5, 4] = np.roll(u, 1, axis=1)
+    cells[:, 5, :] = w
+
+    # The outer boundary: segment (cell j, edge i) splits into (child i, edge 0) and
+    # (child i+1, edge 4); its midpoint is u[j, i].
+    seg_cell, seg_edge = boundary
+    seg_mids = u[seg_cell, seg_edge]
+    new_boundary = (
+        np.stack([6 * seg_cell + seg_edge, 6 * seg_cell + (seg_edge + 1) % 5], -1).reshape(5, -1),
+        np.stack([np.zeros_like(seg_edge), np.full_like(seg_edge, 4)], -1).reshape(5, -1),
+    )
+
+    child_neighbour = None
+    if want_neighbours:
+        child_neighbour = np.empty((n_parents, 6, 5), dtype=np.int64)
+        child_neighbour[:] = 30 * row[:, :, None] + _SIBLING
+        # Half (v_k, u_k) of parent edge k faces (child i'+1, edge 4) of the cell j' across it;
+        # half (u_k-1, v_k) of parent edge k-1 faces (child i', edge 0) there.
+        j_across, i_across = np.divmod(neighbour, 5)
+        child_neighbour[:, :5, 0] = np.where(
+            neighbour < 0, -1, 30 * j_across + 5 * ((i_across + 1) % 5) + 4
+        )
+        child_neighbour[:, :5, 4] = np.roll(
+            np.where(neighbour < 0, -1, 30 * j_across + 5 * i_across), 1, axis=1
+        )
+        child_neighbour = child_neighbour.reshape(-1, 5)
+    step = LevelStep(_readonly(np.ascontiguousarray(parents.T)), _readonly(source))
+    return cells.reshape(-1, 5), seg_mids, new_boundary, child_neighbour, step
+
+
+@lru_cache(maxsize=None)
+def pentagon_template(level: int) -> PentagonTemplate:
+    """The reference pentagon refined ``level`` times (cached for the life of the process).
+
+    Cost: O(6^L) time and memory, once per level per process; the cache holds the cells of each
+    level built (about 1.2 times the finest level's cells).
+
+    Examples
+    --------
+    >>> t = pentagon_template(2)
+    >>> t.cells.shape, t.n_nodes, t.edge_nodes.shape
+    ((36, 5), 65, (5, 5))
+    """
+    if level < 0:
+        raise ValueError(f"level must be >= 0, got {level}")
+    cells = np.arange(5, dtype=np.int64).reshape(1, 5)
+    neighbour = np.full((1, 5), -1, dtype=np.int64)
+    boundary = (np.zeros((5, 1), dtype=np.int64), np.arange(5, dtype=np.int64)[:, None])
+    edge_nodes = np.array([[e, (e + 1) % 5] for e in range(5)], dtype=np.int64)
+    edge_of_node = np.full(node_count(level), -1, dtype=np.int8)
+    edge_of_node[:5] = -2
+    steps = []
+    for step in range(1, level + 1):
+        cells, seg_mids, boundary, neighbour, how = _refine_step(
+            cells, neighbour, boundary, node_count(step - 1), want_neighbours=step < level
+        )
+        steps.append(how)
+        refined = np.empty((5, 2 * edge_nodes.shape[1] - 1), dtype=np.int64)
+        refined[:, 0::2] = edge_nodes
+        refined[:, 1::2] = seg_mids
+        edge_nodes = refined
+        edge_of_node[seg_mids] = np.arange(5, dtype=np.int8)[:, None]
+    return PentagonTemplate(
+        level, _readonly(cells), _readonly(edge_nodes), _readonly(edge_of_node), tuple(steps)
+    )
