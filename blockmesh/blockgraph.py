@@ -35,7 +35,10 @@ def block_graph(domain) -> nx.Graph:
     areas = domain.block_areas()
     for b, block in enumerate(domain.blocks.tolist()):
         graph.add_node(
-            b, vertices=tuple(block), area=float(areas[b]), region=domain.region_names[domain.region[b]]
+            b,
+            vertices=tuple(block),
+            area=float(areas[b]),
+            region=domain.region_names[domain.region[b]],
         )
     neighbour = domain._neighbour
     boundary_owner = {}

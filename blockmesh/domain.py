@@ -311,7 +311,7 @@ class Domain:
         )
 
     def block_graph(self):
-        """The networkx graph of blocks and shared edges; see :func:`blockmesh.blockgraph.block_graph`."""
+        """The networkx graph of blocks and shared edges; see :mod:`blockmesh.blockgraph`."""
         from .blockgraph import block_graph
 
         return block_graph(self)
@@ -454,10 +454,10 @@ def parse_polygon_string(text: str) -> np.ndarray:
     --------
     >>> parse_polygon_string("0,0 1,0 0,1").tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
-    >>> parse_polygon_string("0,0 1;0")
+    >>> parse_polygon_string("0,0 1;0")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    blockmesh.errors.DomainFormatError: --polygon: token 2 '1;0' is not a pair 'x,y' of numbers (write the corners as "x1,y1 x2,y2 ...")
+    blockmesh.errors.DomainFormatError: --polygon: token 2 '1;0' is not a pair 'x,y' of numbers ...
     """
     tokens = text.split()
     points = []

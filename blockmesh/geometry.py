@@ -86,7 +86,9 @@ def corner_sines(polygons: np.ndarray) -> np.ndarray:
     """
     incoming, outgoing = _edge_vectors(polygons)
     cross = incoming[..., 0] * outgoing[..., 1] - incoming[..., 1] * outgoing[..., 0]
-    norms = np.hypot(incoming[..., 0], incoming[..., 1]) * np.hypot(outgoing[..., 0], outgoing[..., 1])
+    norms = np.hypot(incoming[..., 0], incoming[..., 1]) * np.hypot(
+        outgoing[..., 0], outgoing[..., 1]
+    )
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(norms > 0, cross / np.where(norms > 0, norms, 1.0), np.nan)
 

@@ -326,4 +326,6 @@ class Mesh:
     def nbytes(self) -> int:
         """Bytes held by the mesh's arrays."""
         arrays = (self.points, self.cells, self.block_id, self.parent, self.region)
-        return sum(a.nbytes for a in arrays) + self.boundary_edges.nbytes + self.boundary_patch.nbytes
+        return (
+            sum(a.nbytes for a in arrays) + self.boundary_edges.nbytes + self.boundary_patch.nbytes
+        )

@@ -19,8 +19,9 @@ sorting or hashing, in O(6^L) time and memory.
 Examples
 --------
 >>> t = pentagon_template(1)
->>> t.cells.tolist()  # the paper's Fig. 2, 0-based
-[[0, 5, 10, 14, 9], [1, 6, 11, 10, 5], [2, 7, 12, 11, 6], [3, 8, 13, 12, 7], [4, 9, 14, 13, 8], [10, 11, 12, 13, 14]]
+>>> t.cells.tolist()  # the paper's Fig. 2, 0-based  # doctest: +NORMALIZE_WHITESPACE
+[[0, 5, 10, 14, 9], [1, 6, 11, 10, 5], [2, 7, 12, 11, 6],
+ [3, 8, 13, 12, 7], [4, 9, 14, 13, 8], [10, 11, 12, 13, 14]]
 >>> t.edge_nodes[0].tolist()  # nodes along the edge from corner 0 to corner 1
 [0, 5, 1]
 """
@@ -28,7 +29,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
@@ -44,13 +45,16 @@ CHILD_PATTERN = np.array(
 )
 
 _K = np.arange(5)
-# Neighbour of child edge (c, e) inside the same parent, as the flat index 5*c + e' of the facing
-# (child, edge), or -1 where the edge is half of a parent edge (found across the parent's edge).
-_SIBLING = np.full((6, 5), -1, dtype=np.int64)
-_SIBLING[:5, 1] = 5 * ((_K + 1) % 5) + 3  # (u_k, w_k)     faces child k+1, edge 3
-_SIBLING[:5, 2] = 5 * 5 + (_K - 1) % 5  # (w_k, w_k-1)   faces the centre child
-_SIBLING[:5, 3] = 5 * ((_K - 1) % 5) + 1  # (w_k-1, u_k-1) faces child k-1, edge 1
-_SIBLING[5, :] = 5 * ((_K + 1) % 5) + 2  # (w_m, w_m+1)   faces child m+1, edge 2
+# Cell edges are addressed by "slot" 10 * cell + edge (slots 5..9 of a cell are its inner points
+# during numbering). Neighbour of child edge (c, e) inside the same parent, as the offset
+# 10 * c' + e' of the facing child edge within the parent's 60 child slots, or -1 where the edge
+# is half of a parent edge (then it faces a child of the cell across the parent's edge).
+_SIBLING = np.full((6, 10), -1, dtype=np.int64)
+_SIBLING[:5, 1] = 10 * ((_K + 1) % 5) + 3  # (u_k, w_k)     faces child k+1, edge 3
+_SIBLING[:5, 2] = 10 * 5 + (_K - 1) % 5  # (w_k, w_k-1)   faces the centre child
+_SIBLING[:5, 3] = 10 * ((_K - 1) % 5) + 1  # (w_k-1, u_k-1) faces child k-1, edge 1
+_SIBLING[5, :5] = 10 * ((_K + 1) % 5) + 2  # (w_m, w_m+1)   faces child m+1, edge 2
+_SIBLING = _SIBLING[:, :5]
 
 
 def node_count(level: int) -> int:
@@ -121,39 +125,40 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 def _refine_step(parents, neighbour, boundary, n_old, *, want_neighbours):
     """One level: number new nodes, build children, their neighbours and boundary segments.
 
-    ``neighbour[j, i]`` is ``5 * j' + i'`` for the cell edge (j', i') across edge i of cell j, or
-    -1 on the outer boundary. Every step is a handful of whole-array operations.
+    ``neighbour[j, i]`` is the slot ``10 * j' + i'`` of the cell edge (j', i') across edge i of
+    cell j, or -1 on the outer boundary. Every step is a handful of whole-array operations; gathers
+    use ``np.take(..., mode="clip")`` (indices are valid by construction; numpy's bounds check would
+    cost more than the gather).
     """
     n_parents = parents.shape[0]
     row = np.arange(n_parents)[:, None]
     # The lower-numbered of the two cells sharing an edge numbers its midpoint.
-    first = (neighbour < 0) | (neighbour >= 5 * (row + 1))
+    first = (neighbour < 0) | (neighbour >= 10 * (row + 1))
 
-    # Walking order: parent j numbers its first-seen midpoints (in edge order) then 5 inner points.
-    counts = np.add.reduce(first, axis=1, dtype=np.int64) + 5
-    base = np.cumsum(counts) - counts + n_old
-    mid_rank = base[:, None] + (np.cumsum(first, axis=1) - first)
-    u = np.where(first, mid_rank, mid_rank.ravel()[np.maximum(neighbour, 0)])
-    w = (base + counts - 5)[:, None] + _K
+    # Walking order: parent j owns slots 10j..10j+9 = its midpoints u_0..u_4 (present only where
+    # it numbers them), then its inner points w_0..w_4. Node ids follow the present slots in order.
+    present = np.ones((n_parents, 10), dtype=bool)
+    present[:, :5] = first
+    rank = present.ravel().astype(np.int64)
+    np.cumsum(rank, out=rank)
+    rank += n_old - 1
+    points15 = np.empty((n_parents, 15), dtype=np.int64)  # [v, u, w] of every parent
+    points15[:, :5] = parents
+    points15[:, 5:10] = np.where(
+        first,
+        rank.reshape(n_parents, 10)[:, :5],
+        np.take(rank, np.maximum(neighbour, 0), mode="clip"),  # numbered by the cell across
+    )
+    points15[:, 10:] = rank.reshape(n_parents, 10)[:, 5:]
+    cells = np.take(points15, CHILD_PATTERN.ravel(), axis=1, mode="clip").reshape(-1, 5)
 
     # Where each new node's coordinates come from: u[i, j] is at i*C + j, w[i, j] at 5C + i*C + j.
-    source = np.empty(5 * n_parents + int(np.count_nonzero(first)), dtype=np.int64)
-    position = _K * n_parents + row  # (C, 5): i*C + j
-    source[mid_rank[first] - n_old] = position[first]
-    source[(w - n_old).ravel()] = (position + 5 * n_parents).ravel()
-
-    cells = np.empty((n_parents, 6, 5), dtype=np.int64)
-    cells[:, :5, 0] = parents
-    cells[:, :5, 1] = u
-    cells[:, :5, 2] = w
-    cells[:, :5, 3] = np.roll(w, 1, axis=1)
-    cells[:, :5, 4] = np.roll(u, 1, axis=1)
-    cells[:, 5, :] = w
+    source = np.extract(present, np.arange(10) * n_parents + row)
 
     # The outer boundary: segment (cell j, edge i) splits into (child i, edge 0) and
     # (child i+1, edge 4); its midpoint is u[j, i].
     seg_cell, seg_edge = boundary
-    seg_mids = u[seg_cell, seg_edge]
+    seg_mids = points15[seg_cell, 5 + seg_edge]
     new_boundary = (
         np.stack([6 * seg_cell + seg_edge, 6 * seg_cell + (seg_edge + 1) % 5], -1).reshape(5, -1),
         np.stack([np.zeros_like(seg_edge), np.full_like(seg_edge, 4)], -1).reshape(5, -1),
@@ -161,23 +166,23 @@ def _refine_step(parents, neighbour, boundary, n_old, *, want_neighbours):
 
     child_neighbour = None
     if want_neighbours:
-        child_neighbour = np.empty((n_parents, 6, 5), dtype=np.int64)
-        child_neighbour[:] = 30 * row[:, :, None] + _SIBLING
+        child_neighbour = 60 * row + _SIBLING.ravel()  # (C, 30): child c, edge e at 5c + e
         # Half (v_k, u_k) of parent edge k faces (child i'+1, edge 4) of the cell j' across it;
         # half (u_k-1, v_k) of parent edge k-1 faces (child i', edge 0) there.
-        j_across, i_across = np.divmod(neighbour, 5)
-        child_neighbour[:, :5, 0] = np.where(
-            neighbour < 0, -1, 30 * j_across + 5 * ((i_across + 1) % 5) + 4
+        j_across, i_across = np.divmod(neighbour, 10)
+        outside = neighbour < 0
+        child_neighbour[:, 0:25:5] = np.where(
+            outside, -1, 60 * j_across + 10 * ((i_across + 1) % 5) + 4
         )
-        child_neighbour[:, :5, 4] = np.roll(
-            np.where(neighbour < 0, -1, 30 * j_across + 5 * i_across), 1, axis=1
+        child_neighbour[:, 4:25:5] = np.roll(
+            np.where(outside, -1, 60 * j_across + 10 * i_across), 1, axis=1
         )
         child_neighbour = child_neighbour.reshape(-1, 5)
     step = LevelStep(_readonly(np.ascontiguousarray(parents.T)), _readonly(source))
-    return cells.reshape(-1, 5), seg_mids, new_boundary, child_neighbour, step
+    return cells, seg_mids, new_boundary, child_neighbour, step
 
 
-@lru_cache(maxsize=None)
+@cache
 def pentagon_template(level: int) -> PentagonTemplate:
     """The reference pentagon refined ``level`` times (cached for the life of the process).
 

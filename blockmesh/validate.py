@@ -11,10 +11,10 @@ vertex that repeats the first, straight corners of a polygon) are made with a
 
 Examples
 --------
->>> parse_points([[0, 0], [1, "a"]], "vertex")
+>>> parse_points([[0, 0], [1, "a"]], "vertex")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-blockmesh.errors.DomainFormatError: vertex 1 has a y coordinate that is not a number ('a'); coordinates must be numbers
+blockmesh.errors.DomainFormatError: vertex 1 has a y coordinate that is not a number ('a'); ...
 """
 
 from __future__ import annotations
@@ -126,7 +126,7 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
     _raise(
         DomainError,
         [
-            f"{what} {i} ({points[i, 0]!r}, {points[i, 1]!r}) is not finite: "
+            f"{what} {i} ({float(points[i, 0])!r}, {float(points[i, 1])!r}) is not finite: "
             "coordinates must be finite numbers"
             for i in bad
         ],
@@ -135,8 +135,9 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
 
 
 def _scale(points: np.ndarray) -> float:
+    """The size of a point set: the diagonal of its bounding box."""
     extent = np.ptp(points, axis=0) if points.size else np.zeros(2)
-    return float(max(np.hypot(*extent), np.max(np.abs(points), initial=0.0), 1e-300))
+    return float(max(np.hypot(*extent), 1e-300))
 
 
 def _coincident_pairs(points: np.ndarray) -> list[tuple[int, int]]:
@@ -199,6 +200,9 @@ def check_polygon(
             for a, b in same
         ],
     )
+    crossing = _crossing_edges(pts)
+    if crossing:
+        raise DomainError(crossing)
     scale = _scale(pts)
     area = float(signed_area(pts))
     if abs(area) <= 1e-12 * scale**2:
@@ -206,7 +210,11 @@ def check_polygon(
             f"the polygon has zero area ({area:.3g}): its vertices lie on one line; "
             "give the corners of a real region"
         )
-    _check_simple(pts)
+    if not shapely.is_valid(shapely.Polygon(pts)):
+        reason = shapely.is_valid_reason(shapely.Polygon(pts))
+        raise DomainError(
+            f"the polygon is not simple ({reason}): list the vertices in order around the boundary"
+        )
     if area < 0:
         warnings.warn(
             "the polygon was given clockwise; its vertices were reversed to counter-clockwise "
@@ -256,29 +264,21 @@ def check_polygon(
     return pts, source
 
 
-def _check_simple(pts: np.ndarray) -> None:
-    """Raise DomainError, naming two crossing edges and where, if the polygon self-intersects."""
-    ring = shapely.Polygon(pts)
-    if shapely.is_valid(ring):
-        return
+def _crossing_edges(pts: np.ndarray) -> str | None:
+    """A message naming two non-adjacent edges that meet, and where; None if there are none."""
     n = pts.shape[0]
     segments = shapely.linestrings(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
-    tree = shapely.STRtree(segments)
-    first, second = tree.query(segments, predicate="intersects")
+    first, second = shapely.STRtree(segments).query(segments, predicate="intersects")
     adjacent = (second == first) | (second == (first + 1) % n) | (first == (second + 1) % n)
     for i, j in zip(first[~adjacent], second[~adjacent], strict=True):
         if i < j:
             where = shapely.get_coordinates(shapely.intersection(segments[i], segments[j]))[0]
-            raise DomainError(
+            return (
                 f"the polygon's edges {i} {fmt_point(pts[i])}->{fmt_point(pts[(i + 1) % n])} and "
                 f"{j} {fmt_point(pts[j])}->{fmt_point(pts[(j + 1) % n])} cross at "
                 f"{fmt_point(where)}: list the vertices in order around the boundary"
             )
-    # Adjacent edges folding back onto each other (a spike).
-    reason = shapely.is_valid_reason(ring)
-    raise DomainError(
-        f"the polygon is not simple ({reason}): list the vertices in order around the boundary"
-    )
+    return None
 
 
 # --------------------------------------------------------------------------- blocks
@@ -368,9 +368,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     flat = np.flatnonzero(np.abs(areas) <= 1e-12 * scale**2)
     _raise(
         DomainError,
-        [
-            f"{_block_label(blocks, b)} has zero area: its corners lie on one line" for b in flat
-        ],
+        [f"{_block_label(blocks, b)} has zero area: its corners lie on one line" for b in flat],
     )
     clockwise = np.flatnonzero(areas < 0)
     if clockwise.size:
@@ -469,7 +467,10 @@ def _check_overlaps(blocks: np.ndarray, polygons: np.ndarray, vertices: np.ndarr
     overlapping = shared_area > 1e-9 * np.minimum(areas[first], areas[second])
     problems = []
     for a, b, piece, area in zip(
-        first[overlapping], second[overlapping], shared[overlapping], shared_area[overlapping],
+        first[overlapping],
+        second[overlapping],
+        shared[overlapping],
+        shared_area[overlapping],
         strict=True,
     ):
         where = shapely.get_coordinates(shapely.centroid(piece))[0]
@@ -587,7 +588,9 @@ def resolve_patches(
             if (
                 pair is None
                 or len(pair) != 2
-                or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair)
+                or not all(
+                    isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair
+                )
             ):
                 raise DomainFormatError(
                     f"patch {name!r} has {edge!r}; each edge is a pair of vertex ids [a, b]"

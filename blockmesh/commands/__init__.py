@@ -7,8 +7,8 @@ parser's default, and ``run(args) -> int``. Shared options and output helpers ar
 
 from __future__ import annotations
 
-from . import catalogue, check, show
+from . import catalogue, check, mesh, show
 
-COMMANDS = (catalogue, check, show)
+COMMANDS = (catalogue, check, show, mesh)
 
 __all__ = ["COMMANDS"]

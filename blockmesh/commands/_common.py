@@ -52,7 +52,7 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
         return Domain.from_polygon(parse_polygon_string(args.polygon), name="polygon")
     if not domain:
         raise BlockMeshError(
-            "no domain: give a catalogue name or a .toml file, or --polygon \"x1,y1 x2,y2 ...\" "
+            'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
             "(see 'blockmesh catalogue')"
         )
     return load_domain(domain)
