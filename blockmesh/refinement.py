@@ -301,10 +301,13 @@ def refine(
         if progress is not None:
             progress(step, level)
     if not identity:
-        points[ids] = local
+        np.put(points, ids, local, mode="clip")  # shared nodes get the same value twice
     del local
     points = points.view(np.float64).reshape(-1, 2)
-    cells = template.cells.copy() if identity else ids[:, template.cells].reshape(-1, 5)
+    if identity:
+        cells = template.cells.copy()
+    else:
+        cells = np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5)
 
     mesh = _assemble(base, ids, neighbour, points, cells, level)
     if numbering == "rcm":

@@ -1,0 +1,164 @@
+"""Refinement speed and memory, side by side with Triangle and gmsh on the same domain.
+
+Run: ``python benchmarks/bench_refine.py`` (needs ``pip install -e '.[bench]'`` for the peers).
+Prints ns per cell and cells per second for a single pentagon (the paper's SP) at levels 4-8,
+warm (template cached) and on the first call in a fresh process, an 8-block domain at level 7,
+the peak memory over the output arrays, and the peers meshing a comparable number of triangles of
+the same pentagon, with ratios. Not a test: timings on shared machines are noisy; each figure is
+the best of several runs after a warm-up.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+import tracemalloc
+
+import numpy as np
+
+import blockmesh
+from blockmesh.template import pentagon_template
+
+SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
+
+
+def best_of(function, repeat: int) -> float:
+    function()  # warm-up
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def first_call_seconds(level: int) -> float:
+    """Time of refine() on the first call in a fresh Python process (template not yet built)."""
+    code = (
+        "import time, blockmesh\n"
+        "d = blockmesh.load_domain('sp')\n"
+        "t = time.perf_counter()\n"
+        f"blockmesh.refine(d, {level})\n"
+        "print(time.perf_counter() - t)\n"
+    )
+    runs = []
+    for _ in range(3):
+        out = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, check=True
+        )
+        runs.append(float(out.stdout))
+    return min(runs)
+
+
+def peak_ratio(domain, level: int) -> tuple[float, int]:
+    """Peak bytes allocated during a warm refine, over the bytes of the mesh it returns."""
+    pentagon_template(level)
+    tracemalloc.start()
+    mesh = blockmesh.refine(domain, level)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return peak / mesh.nbytes(), mesh.nbytes()
+
+
+def triangle_rate(target_triangles: int, repeat: int) -> tuple[float, int]:
+    import triangle
+
+    area = 5.0 / target_triangles * 1.15
+    geometry = {
+        "vertices": np.array(SP),
+        "segments": np.array([[i, (i + 1) % 5] for i in range(5)]),
+    }
+    out = {}
+
+    def run():
+        out["mesh"] = triangle.triangulate(geometry, f"pqa{area:.10f}")
+
+    seconds = best_of(run, repeat)
+    count = len(out["mesh"]["triangles"])
+    return count / seconds, count
+
+
+def gmsh_rate(target_triangles: int) -> tuple[float, int]:
+    import gmsh
+
+    size = np.sqrt(4 * 5.0 / np.sqrt(3) / target_triangles)
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        best = np.inf
+        count = 0
+        for _ in range(2):
+            gmsh.clear()
+            gmsh.model.add("sp")
+            tags = [gmsh.model.geo.addPoint(x, y, 0, size) for x, y in SP]
+            lines = [gmsh.model.geo.addLine(tags[i], tags[(i + 1) % 5]) for i in range(5)]
+            loop = gmsh.model.geo.addCurveLoop(lines)
+            gmsh.model.geo.addPlaneSurface([loop])
+            gmsh.model.geo.synchronize()
+            start = time.perf_counter()
+            gmsh.model.mesh.generate(2)
+            best = min(best, time.perf_counter() - start)
+            _, element_tags, _ = gmsh.model.mesh.getElements(2)
+            count = sum(len(t) for t in element_tags)
+        return count / best, count
+    finally:
+        gmsh.finalize()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--gmsh-triangles", type=int, default=200_000)
+    args = parser.parse_args()
+
+    sp = blockmesh.load_domain("sp")
+    print("blockmesh refine, single pentagon (SP), warm (template cached):")
+    print(f"{'level':>5} {'cells':>11} {'ms':>9} {'ns/cell':>8} {'M cells/s':>10}")
+    rates = {}
+    for level in range(4, 9):
+        seconds = best_of(lambda level=level: blockmesh.refine(sp, level), args.repeat)
+        cells = 6**level
+        rates[level] = cells / seconds
+        print(
+            f"{level:>5} {cells:>11,} {seconds * 1e3:>9.2f} {seconds / cells * 1e9:>8.1f} "
+            f"{cells / seconds / 1e6:>10.1f}"
+        )
+    first = first_call_seconds(8)
+    print(
+        f"first call in a fresh process, level 8: {first * 1e3:.0f} ms = "
+        f"{6**8 / first / 1e6:.1f} M cells/s ({first / 6**8 * 1e9:.0f} ns/cell)"
+    )
+    joined = blockmesh.load_domain("joined-8")
+    seconds = best_of(lambda: blockmesh.refine(joined, 7), max(2, args.repeat // 2))
+    cells = joined.n_blocks * 6**7
+    print(
+        f"8-block domain (joined-8), level 7: {cells:,} cells in {seconds * 1e3:.0f} ms = "
+        f"{seconds / cells * 1e9:.1f} ns/cell, {cells / seconds / 1e6:.1f} M cells/s"
+    )
+    for name, domain, level in (("SP", sp, 8), ("joined-8", joined, 7)):
+        ratio, nbytes = peak_ratio(domain, level)
+        print(
+            f"peak memory {name} level {level}: {ratio:.2f} x the output arrays "
+            f"({nbytes / 1e6:.0f} MB)"
+        )
+
+    print("\npeers on the same pentagon (elements per second; ratio = blockmesh level 8 / peer):")
+    tri_rate, tri_count = triangle_rate(6**8, max(2, args.repeat // 2))
+    print(
+        f"  Triangle: {tri_count:,} triangles at {tri_rate / 1e6:.2f} M/s -> blockmesh is "
+        f"{rates[8] / tri_rate:.0f}x faster per element"
+    )
+    try:
+        gm_rate, gm_count = gmsh_rate(args.gmsh_triangles)
+        print(
+            f"  gmsh:     {gm_count:,} triangles at {gm_rate / 1e6:.3f} M/s -> blockmesh is "
+            f"{rates[8] / gm_rate:.0f}x faster per element"
+        )
+    except ImportError:
+        print("  gmsh: not installed (pip install gmsh)")
+
+
+if __name__ == "__main__":
+    main()
