@@ -34,22 +34,27 @@ def best_of(function, repeat: int) -> float:
     return min(times)
 
 
-def first_call_seconds(level: int) -> float:
-    """Time of refine() on the first call in a fresh Python process (template not yet built)."""
+def first_call(level: int) -> tuple[float, float]:
+    """Seconds of refine() on the first call in a fresh Python process (template not yet built),
+    and, in another fresh process, the peak memory of that call over the output arrays."""
     code = (
-        "import time, blockmesh\n"
+        "import sys, time, tracemalloc, blockmesh\n"
         "d = blockmesh.load_domain('sp')\n"
+        "memory = sys.argv[1] == 'memory'\n"
+        "if memory: tracemalloc.start()\n"
         "t = time.perf_counter()\n"
-        f"blockmesh.refine(d, {level})\n"
-        "print(time.perf_counter() - t)\n"
+        f"m = blockmesh.refine(d, {level})\n"
+        "t = time.perf_counter() - t\n"
+        "print(tracemalloc.get_traced_memory()[1] / m.nbytes() if memory else t)\n"
     )
-    runs = []
-    for _ in range(3):
+
+    def fresh(what: str) -> float:
         out = subprocess.run(
-            [sys.executable, "-c", code], capture_output=True, text=True, check=True
+            [sys.executable, "-c", code, what], capture_output=True, text=True, check=True
         )
-        runs.append(float(out.stdout))
-    return min(runs)
+        return float(out.stdout)
+
+    return min(fresh("time") for _ in range(3)), fresh("memory")
 
 
 def peak_ratio(domain, level: int) -> tuple[float, int]:
@@ -125,10 +130,11 @@ def main() -> None:
             f"{level:>5} {cells:>11,} {seconds * 1e3:>9.2f} {seconds / cells * 1e9:>8.1f} "
             f"{cells / seconds / 1e6:>10.1f}"
         )
-    first = first_call_seconds(8)
+    first, first_peak = first_call(8)
     print(
         f"first call in a fresh process, level 8: {first * 1e3:.0f} ms = "
-        f"{6**8 / first / 1e6:.1f} M cells/s ({first / 6**8 * 1e9:.0f} ns/cell)"
+        f"{6**8 / first / 1e6:.1f} M cells/s ({first / 6**8 * 1e9:.0f} ns/cell), "
+        f"peak memory {first_peak:.2f} x the output arrays"
     )
     joined = blockmesh.load_domain("joined-8")
     seconds = best_of(lambda: blockmesh.refine(joined, 7), max(2, args.repeat // 2))

@@ -193,8 +193,8 @@ class Mesh:
 
     @property
     def n_edges(self) -> int:
-        """Number of unique edges."""
-        return self.edges().shape[0]
+        """Number of unique edges: (5 M + boundary edges) / 2, as every other edge has two cells."""
+        return (5 * self.n_cells + int(self.boundary_edges.shape[0])) // 2
 
     def edges(self) -> np.ndarray:
         """Unique undirected edges (E, 2), cached. O(M log M)."""
