@@ -23,6 +23,7 @@ from .errors import (
     ResourceError,
     TopologyError,
 )
+from .io import read, write
 from .mesh import Mesh, MeshQuality
 from .refinement import refine
 
@@ -40,6 +41,8 @@ __all__ = [
     "TopologyError",
     "load_domain",
     "parse_polygon_string",
+    "read",
     "refine",
+    "write",
 ]
 __version__ = "0.1.0"

@@ -17,10 +17,9 @@ from typing import Any
 
 from ..domain import Domain, load_domain, parse_polygon_string
 from ..errors import BlockMeshError
+from ..io import SPLITS, format_for_path
 from ..refinement import NUMBERINGS, refine
 from ._common import ProgressBar, add_domain_arguments, parse_size, print_json
-
-SPLITS = ("tri5", "tri3", "quad5")
 
 
 def register(subparsers) -> None:
@@ -53,6 +52,12 @@ def register(subparsers) -> None:
     )
     parser.add_argument(
         "--split", choices=SPLITS, help="how .msh output splits pentagons (gmsh has no pentagons)"
+    )
+    parser.add_argument(
+        "--compression",
+        choices=("none", "zlib", "lzma"),
+        help="compression of the output, where the format has it (default: zlib for .vtu, none "
+        "otherwise)",
     )
     parser.add_argument("--plot", metavar="PNG", help="draw the mesh")
     parser.add_argument(
@@ -130,6 +135,13 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    if args.output:
+        # Fail before meshing: an unknown format or a missing --split is known now.
+        fmt = format_for_path(args.output, args.format)
+        if fmt.needs_split and args.split is None:
+            raise BlockMeshError(
+                f"{args.output}: gmsh .msh has no pentagons; choose --split tri5, tri3 or quad5"
+            )
     return {
         "level": args.level,
         "numbering": args.numbering,
@@ -139,6 +151,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         "quality_plot": args.quality_plot,
         "format": args.format,
         "split": args.split,
+        "compression": args.compression,
     }
 
 
