@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import blockmesh
 import blockmesh.io as bio
 from blockmesh.errors import ExportError
 from blockmesh.io import _ascii, openfoam
@@ -244,11 +245,13 @@ CHECKMESH = openfoam.find_checkmesh()
 
 
 @pytest.mark.skipif(CHECKMESH is None, reason="OpenFOAM checkMesh is not installed")
-@pytest.mark.parametrize("level", [0, 1, 3])
-def test_checkmesh_says_ok(tmp_path: Path, level: int) -> None:
+@pytest.mark.parametrize(
+    ("domain", "level"), [("two-block", 0), ("two-block", 1), ("square-cut", 3), ("hexagon", 4)]
+)
+def test_checkmesh_says_ok(tmp_path: Path, domain: str, level: int) -> None:
     assert CHECKMESH is not None
     exe, env = CHECKMESH
-    mesh = two_block(level)
+    mesh = two_block(level) if domain == "two-block" else blockmesh.load_domain(domain).mesh(level)
     bio.write(mesh, tmp_path / "case", format="openfoam")
     run = subprocess.run(
         [exe], cwd=tmp_path / "case", env=env, capture_output=True, text=True, timeout=300
