@@ -23,8 +23,11 @@ from .errors import (
     ResourceError,
     TopologyError,
 )
+from .exact import exact_integral
+from .expr import parse_expression
 from .io import read, write
 from .mesh import Mesh, MeshQuality
+from .quadrature import IntegrationResult, integrate, integrate_to_tolerance, quadrature_points
 from .refinement import refine
 
 __all__ = [
@@ -35,12 +38,18 @@ __all__ = [
     "DomainFormatError",
     "ExportError",
     "ExpressionError",
+    "IntegrationResult",
     "Mesh",
     "MeshQuality",
     "ResourceError",
     "TopologyError",
+    "exact_integral",
+    "integrate",
+    "integrate_to_tolerance",
     "load_domain",
+    "parse_expression",
     "parse_polygon_string",
+    "quadrature_points",
     "read",
     "refine",
     "write",

@@ -10,7 +10,7 @@ Examples
 >>> g.number_of_nodes(), g.number_of_edges()
 (4, 4)
 >>> g.edges[0, 1]["vertices"]
-(1, 8)
+(4, 0)
 """
 
 from __future__ import annotations

@@ -340,8 +340,11 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     Examples
     --------
     >>> v = np.array([[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]], dtype=float)
-    >>> check_block_shapes(v, np.array([[0, 4, 3, 2, 1]]), repair=True).tolist()
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     check_block_shapes(v, np.array([[0, 4, 3, 2, 1]]), repair=True).tolist()
     [[0, 1, 2, 3, 4]]
+    >>> str(caught[0].message)[:25]
+    '1 block was clockwise and'
     """
     blocks = np.array(blocks, dtype=np.int64)
     same = _coincident_pairs(vertices)

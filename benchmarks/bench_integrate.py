@@ -1,0 +1,225 @@
+"""Benchmark of blockmesh.integrate (a script, not a test).
+
+1. Throughput: quadrature points per second of ``integrate`` against evaluating f alone on the
+   same points (goal: >= 0.8x at order >= 5, level 6).
+2. Error against evaluations for the three rules (paper, jacobi, fan) on the tables' integrands.
+3. Time to reach 1e-12: ``integrate_to_tolerance`` against ``scipy.integrate.dblquad`` on SP and
+   USP for the smooth integrands of the tables.
+
+Run: ``PYTHONPATH=. python benchmarks/bench_integrate.py [--quick]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import math
+import time
+from fractions import Fraction
+
+import numpy as np
+from scipy import integrate as scipy_integrate
+
+from blockmesh.expr import parse_expression
+from blockmesh.quadrature import (
+    DEFAULT_CHUNK,
+    RULES,
+    _chunks,
+    integrate,
+    integrate_to_tolerance,
+    rule_info,
+)
+from blockmesh.tables import PENTAGONS, paper_case, pentagon_mesh
+
+#: Scalar versions of the tables' smooth integrands, for scipy's dblquad.
+SCALAR = {
+    1: lambda y, x: (x**4 + y**3) / (1 + x**2),
+    2: lambda y, x: (1 - x) * math.sin(10 * x * y),
+    3: lambda y, x: (0.2 * x + 0.3 * y) ** 19,
+    5: lambda y, x: (x + y) ** 19 / 1e10,
+    7: lambda y, x: math.cos(30 * (x + y)),
+    9: lambda y, x: math.exp(-((x - 0.5) ** 2 + (y - 0.5) ** 2)),
+    10: lambda y, x: math.exp(-100 * ((x - 0.5) ** 2 + (y - 0.5) ** 2)),
+    11: lambda y, x: (
+        0.75 * math.exp(-0.25 * (9 * x - 2) ** 2 - 0.25 * (9 * y - 2) ** 2)
+        + 0.75 * math.exp((-1 / 49) * (9 * x + 1) ** 2 - 0.1 * (9 * y + 1))
+        + 0.5 * math.exp(-0.25 * (9 * x - 7) ** 2 - 0.25 * (9 * y - 3) ** 2)
+        - 0.2 * math.exp(-((9 * y - 4) ** 2) - (9 * y - 7) ** 2)
+    ),
+}
+
+
+def _best(fn, repeat: int = 3) -> float:
+    fn()  # warm up (first touch of memory, caches of rules)
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+# --------------------------------------------------------------------------- 1. throughput
+def throughput(level: int, orders: tuple[int, ...], tables: tuple[int, ...]) -> None:
+    mesh = pentagon_mesh("SP", level)
+    print(
+        f"\n1. Throughput on SP level {level} ({mesh.n_cells:,} cells), rule paper, "
+        f"chunk {DEFAULT_CHUNK:,} points"
+    )
+    print(
+        f"{'integrand':<34}{'order':>6}{'points':>13}{'integrate':>12}{'f alone':>12}"
+        f"{'Mpts/s':>9}{'ratio':>7}"
+    )
+    for table in tables:
+        text = paper_case(table, "SP").integrand
+        f = parse_expression(text)
+        for n in orders:
+            points = mesh.n_cells * rule_info("paper", n).points_per_cell
+
+            def run_integrate(f=f, n=n):
+                integrate(mesh, f, order=n)
+
+            def run_f_alone(f=f, n=n):
+                spent = 0.0
+                for _, xs, ys, _ in _chunks(mesh, "paper", n, DEFAULT_CHUNK):
+                    start = time.perf_counter()
+                    with np.errstate(all="ignore"):
+                        f(xs, ys)
+                    spent += time.perf_counter() - start
+                return spent
+
+            t_int = _best(run_integrate)
+            run_f_alone()
+            t_f = min(run_f_alone() for _ in range(3))
+            label = text if len(text) <= 32 else text[:29] + "..."
+            print(
+                f"{label:<34}{n:>6}{points:>13,}{t_int:>11.3f}s{t_f:>11.3f}s"
+                f"{points / t_int / 1e6:>9.1f}{t_f / t_int:>7.2f}"
+            )
+
+
+# --------------------------------------------------------------------------- 2. error vs cost
+def error_vs_cost(tables: tuple[int, ...], targets=(1e-6, 1e-10, 1e-13)) -> None:
+    print(
+        "\n2. Fewest evaluations reaching |error| <= target x ∫|f| (levels 0-3, orders 1-30), "
+        "SP and USP"
+    )
+    header = "".join(f"{rule:>10}" * 1 for rule in RULES)
+    print(f"{'table':<7}{'pentagon':<9}{'target':>8}" + header + "   (degree 2n-1 for all rules)")
+    for table in tables:
+        for pentagon in PENTAGONS:
+            case = paper_case(table, pentagon)
+            exact = case.exact
+            results = {}
+            for rule in RULES:
+                found = dict.fromkeys(targets)
+                for level in range(0, 4):
+                    mesh = pentagon_mesh(pentagon, level)
+                    for n in range(1, 31):
+                        value = integrate(mesh, case.integrand, order=n, rule=rule)
+                        err = float(abs(Fraction(value) - exact)) / case.abs_integral
+                        cost = mesh.n_cells * rule_info(rule, n).points_per_cell
+                        for target in targets:
+                            if err <= target and (found[target] is None or cost < found[target]):
+                                found[target] = cost
+                results[rule] = found
+            for target in targets:
+                cells = "".join(
+                    f"{results[rule][target]:>10,}" if results[rule][target] else f"{'-':>10}"
+                    for rule in RULES
+                )
+                print(f"{table:<7}{pentagon:<9}{target:>8.0e}{cells}")
+
+
+# --------------------------------------------------------------------------- 3. vs dblquad
+def _strips(corners):
+    """The convex polygon as vertical strips: (x0, x1, lower(x), upper(x)) per strip."""
+    pts = [tuple(map(float, p)) for p in corners]
+    xs = sorted({p[0] for p in pts})
+    edges = list(zip(pts, pts[1:] + pts[:1], strict=True))
+
+    def bounds(x):
+        ys = []
+        for (xa, ya), (xb, yb) in edges:
+            if min(xa, xb) <= x <= max(xa, xb) and xa != xb:
+                ys.append(ya + (yb - ya) * (x - xa) / (xb - xa))
+        return min(ys), max(ys)
+
+    strips = []
+    for x0, x1 in itertools.pairwise(xs):
+
+        def lower(x, x0=x0, x1=x1):
+            return bounds(min(max(x, x0), x1))[0]
+
+        def upper(x, x0=x0, x1=x1):
+            return bounds(min(max(x, x0), x1))[1]
+
+        strips.append((x0, x1, lower, upper))
+    return strips
+
+
+def versus_dblquad(tables: tuple[int, ...], tol: float = 1e-12) -> None:
+    print(
+        f"\n3. Time to |error| <= {tol:g}: integrate_to_tolerance (rule jacobi, from the single "
+        "pentagon) vs scipy dblquad (epsabs=epsrel=1e-12, split into vertical strips)"
+    )
+    print(
+        f"{'table':<6}{'P':<5}{'blockmesh':>11}{'error':>10}{'points':>11}{'lvl/ord':>9}"
+        f"{'dblquad':>11}{'error':>10}{'evals':>11}{'speed-up':>10}"
+    )
+    for table in tables:
+        for pentagon in PENTAGONS:
+            case = paper_case(table, pentagon)
+            reference = float(case.exact)
+            base = pentagon_mesh(pentagon, 0)
+
+            def ours(case=case, base=base):
+                return integrate_to_tolerance(base, case.integrand, tol)
+
+            t_ours = _best(ours, repeat=3)
+            result = ours()
+            scalar = SCALAR[table]
+            calls = [0]
+
+            def counted(y, x, scalar=scalar, calls=calls):
+                calls[0] += 1
+                return scalar(y, x)
+
+            def theirs(pentagon=pentagon, counted=counted, calls=calls):
+                calls[0] = 0
+                total = 0.0
+                for x0, x1, lower, upper in _strips(PENTAGONS[pentagon]):
+                    total += scipy_integrate.dblquad(
+                        counted, x0, x1, lower, upper, epsabs=tol, epsrel=tol
+                    )[0]
+                return total
+
+            start = time.perf_counter()
+            value = theirs()
+            t_theirs = time.perf_counter() - start
+            flag = "" if result.converged else " (not converged)"
+            print(
+                f"{table:<6}{pentagon:<5}{t_ours * 1e3:>9.1f}ms"
+                f"{abs(result.value - reference):>10.1e}"
+                f"{result.points:>11,}{result.level:>4}/{result.order:<4}"
+                f"{t_theirs * 1e3:>9.0f}ms{abs(value - reference):>10.1e}{calls[0]:>11,}"
+                f"{t_theirs / t_ours:>9.0f}x{flag}"
+            )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="smaller sizes, fewer cases")
+    args = parser.parse_args()
+    if args.quick:
+        throughput(5, (5,), (1, 9))
+        error_vs_cost((9,))
+        versus_dblquad((9,))
+    else:
+        throughput(6, (5, 10), (1, 3, 7, 9, 11))
+        error_vs_cost((1, 2, 7, 9, 11))
+        versus_dblquad((1, 2, 3, 5, 7, 9, 10, 11))
+
+
+if __name__ == "__main__":
+    main()
