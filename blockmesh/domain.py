@@ -255,13 +255,11 @@ class Domain:
 
     def write_toml(self, path: str | Path) -> Path:
         """Write :meth:`to_toml` to ``path`` atomically (temporary file, then rename)."""
+        from .atomic import atomic_file
+
         path = Path(path)
-        temporary = path.with_name(f".{path.name}.tmp")
-        try:
+        with atomic_file(path) as temporary:
             temporary.write_text(self.to_toml(), encoding="utf-8")
-            temporary.replace(path)
-        finally:
-            temporary.unlink(missing_ok=True)
         return path
 
     # ------------------------------------------------------------------ measures

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .atomic import atomic_file
 from .errors import ExportError
 
 __all__ = ["plot_domain", "plot_mesh", "plot_quality"]
@@ -36,16 +37,13 @@ def _pyplot():
 
 def _save(fig, path: str | Path) -> Path:
     path = Path(path)
-    if not path.parent.is_dir():
-        raise ExportError(f"cannot write {path}: the folder {path.parent} does not exist")
-    if path.suffix.lower() not in {".png", ".pdf", ".svg"}:
-        raise ExportError(f"cannot draw {path}: pictures are .png, .pdf or .svg files")
-    temporary = path.with_name(f".{path.stem}.tmp{path.suffix}")
+    kind = path.suffix.lower()[1:]
     try:
-        fig.savefig(temporary, dpi=150, bbox_inches="tight")
-        temporary.replace(path)
+        if kind not in {"png", "pdf", "svg"}:
+            raise ExportError(f"cannot draw {path}: pictures are .png, .pdf or .svg files")
+        with atomic_file(path) as temporary:
+            fig.savefig(temporary, format=kind, dpi=150, bbox_inches="tight")
     finally:
-        temporary.unlink(missing_ok=True)
         _pyplot().close(fig)
     return path
 

@@ -19,8 +19,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import blockmesh.io as bio
+from blockmesh import atomic as _safe
 from blockmesh.errors import BlockMeshError, ExportError
-from blockmesh.io import _ascii, _safe
+from blockmesh.io import _ascii
 from blockmesh.mesh import Mesh
 from blockmesh.refinement import refine
 

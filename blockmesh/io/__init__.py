@@ -13,7 +13,7 @@ npz         .npz                  NumPy archive of every array (lossless)
 
 The format is taken from ``format=`` when given, else from the path: its extension, or
 ``openfoam`` for a path named ``polyMesh`` or an existing directory. Every writer is atomic (see
-:mod:`blockmesh.io._safe`): output goes to a temporary name in the target directory and is
+:mod:`blockmesh.atomic`): output goes to a temporary name in the target directory and is
 renamed into place, so a failure or Ctrl-C never leaves a truncated file or destroys an old one.
 Every problem the user can fix raises :class:`~blockmesh.errors.ExportError`.
 

@@ -47,10 +47,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, mesh_from_arrays
-from ._safe import atomic_file
 
 __all__ = ["FORMAT", "matlab_name", "read_mat", "write_mat"]
 

@@ -48,11 +48,11 @@ from typing import BinaryIO
 
 import numpy as np
 
+from ..atomic import atomic_file
 from ..errors import ExportError
 from ..mesh import Mesh, edge_keys
 from ._ascii import write_rows
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays
-from ._safe import atomic_file
 from .split import check_split, split_boundary, split_cells
 
 __all__ = ["FORMAT", "read_msh", "write_msh"]

@@ -27,10 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, mesh_from_arrays
-from ._safe import atomic_file
 
 __all__ = ["FORMAT", "read_npz", "write_npz"]
 

@@ -52,13 +52,13 @@ from typing import BinaryIO
 
 import numpy as np
 
+from ..atomic import atomic_dir, atomic_file, check_target
 from ..errors import ExportError
 from ..geometry import signed_area
 from ..mesh import Mesh
 from ..refinement import cell_neighbours
 from ._ascii import float_bytes, write_rows
 from ._common import Format, mesh_from_arrays
-from ._safe import atomic_dir, atomic_file, check_target
 
 __all__ = [
     "FORMAT",

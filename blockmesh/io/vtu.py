@@ -42,10 +42,10 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays
-from ._safe import atomic_file, scratch_file
 
 __all__ = ["FORMAT", "read_vtu", "write_vtu"]
 

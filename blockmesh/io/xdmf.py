@@ -44,10 +44,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_files
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays
-from ._safe import atomic_files
 
 __all__ = ["FORMAT", "read_xdmf", "write_xdmf"]
 

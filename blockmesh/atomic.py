@@ -1,5 +1,7 @@
 """Atomic writes: build the output next to its target under a temporary name, then rename it.
 
+Used by every writer (:mod:`blockmesh.io`), the pictures and the domain files.
+
 An exception (or Ctrl-C) while the output is being written removes the temporary file and leaves
 any existing file untouched; a reader never sees a half-written file. Several files that belong
 together (an ``.xdmf`` and its ``.h5``) are renamed one after the other and put back as they were
@@ -25,7 +27,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-from ..errors import ExportError
+from .errors import ExportError
 
 __all__ = ["atomic_dir", "atomic_file", "atomic_files", "check_target", "scratch_file"]
 
