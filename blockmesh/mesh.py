@@ -66,7 +66,7 @@ class MeshQuality:
     """Shape measures of a mesh's cells (angles in degrees).
 
     ``max_aspect_ratio`` is the largest diameter**2 / area over the cells (a regular pentagon has
-    2.2); ``area_ratio`` is the smallest cell area over the largest.
+    1.52); ``area_ratio`` is the smallest cell area over the largest.
     """
 
     min_angle: float

@@ -167,7 +167,7 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 18) -> Path:
     left.set_ylabel("corners")
     left.legend(fontsize=8)
     right.hist(aspect, bins=60, color="#dd8452")
-    right.axvline(2.2, color="k", lw=0.8, ls="--", label="regular pentagon (2.2)")
+    right.axvline(1.52, color="k", lw=0.8, ls="--", label="regular pentagon (1.52)")
     right.set_xlabel("aspect ratio: diameter² / area")
     right.set_ylabel("cells")
     right.legend(fontsize=8)

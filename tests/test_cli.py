@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import pytest
+from conftest import CATALOGUE
 
 from blockmesh.cli import main
 
@@ -149,3 +150,13 @@ def test_mesh_batch_keeps_going_after_a_failure(capsys, tmp_path):
     assert [r["ok"] for r in report["domains"]] == [True, False, True]
     assert "at least 3 vertices" in err
     assert (tmp_path / "sp.png").exists() and (tmp_path / "usp.png").exists()
+
+
+@pytest.mark.parametrize("name", CATALOGUE)
+def test_every_catalogue_entry_passes_check(capsys, name):
+    code, out, _ = run(capsys, "check", name, "--json")
+    report = json.loads(out)
+    assert code == 0 and report["valid"] is True and report["warnings"] == []
+    assert report["connected_components"] == 1
+    assert all(b["strictly_convex"] and b["counter_clockwise"] for b in report["block_details"])
+    assert report["euler_characteristic"] == 1 - report["holes"]
