@@ -188,6 +188,11 @@ def _global_ids(cells: np.ndarray, neighbour: np.ndarray, n_points: int, steps: 
     return ids, total
 
 
+#: Parent cells processed at once by :func:`_place_level`: small enough for the temporaries to
+#: stay in the CPU caches, large enough for numpy's per-call overhead not to matter.
+_PLACE_CHUNK = 8192
+
+
 def _place_level(local: np.ndarray, step, lo: int, hi: int) -> None:
     """Coordinates of the nodes new at one level, in every block's local numbering.
 
@@ -195,26 +200,40 @@ def _place_level(local: np.ndarray, step, lo: int, hi: int) -> None:
     ``x + iy``, which makes gathers and scatters several times faster than on (N, 2) rows). The
     arithmetic runs on the float64 view, corner-major, and is the paper's:
     ``u = (v_i + v_i+1) / 2``, ``p = (v1 + v2 + v3 + v4 + v5) / 5``, ``w = (u + p) / 2``; so the
-    results are bit for bit those of the paper's program.
+    results are bit for bit those of the paper's program. Parent cells go in chunks whose new
+    nodes are a contiguous run of the output, so the temporaries stay in cache.
     """
     n_blocks = local.shape[0]
-    # (B, 5, 2C): corner-major, x/y interleaved. The template's indices are valid by construction;
-    # mode="clip" skips numpy's bounds check, which otherwise costs more than the gather itself.
-    corners = np.take(local, step.corners, axis=1, mode="clip").view(np.float64)
-    p = corners[:, 0] + corners[:, 1]
-    p += corners[:, 2]
-    p += corners[:, 3]
-    p += corners[:, 4]
-    p /= 5
-    new = np.empty((n_blocks, 2, *corners.shape[1:]), dtype=np.float64)  # [u, w]
-    u, w = new[:, 0], new[:, 1]
-    np.add(corners[:, :4], corners[:, 1:], out=u[:, :4])
-    np.add(corners[:, 4], corners[:, 0], out=u[:, 4])
-    u *= 0.5  # exact, as / 2
-    np.add(u, p[:, None, :], out=w)
-    w *= 0.5
-    values = new.reshape(n_blocks, -1).view(np.complex128)
-    np.take(values, step.source, axis=1, out=local[:, lo:hi], mode="clip")
+    n_parents = step.corners.shape[1]
+    for j0 in range(0, n_parents, _PLACE_CHUNK):
+        j1 = min(j0 + _PLACE_CHUNK, n_parents)
+        # (B, 5, 2c): corner-major, x/y interleaved. The template's indices are valid by
+        # construction; mode="clip" skips numpy's bounds check, which costs more than the gather.
+        corners = np.take(local, step.corners[:, j0:j1], axis=1, mode="clip").view(np.float64)
+        p = corners[:, 0] + corners[:, 1]
+        p += corners[:, 2]
+        p += corners[:, 3]
+        p += corners[:, 4]
+        p /= 5
+        new = np.empty((n_blocks, 2, *corners.shape[1:]), dtype=np.float64)  # [u, w]
+        u, w = new[:, 0], new[:, 1]
+        np.add(corners[:, :4], corners[:, 1:], out=u[:, :4])
+        np.add(corners[:, 4], corners[:, 0], out=u[:, 4])
+        u *= 0.5  # exact, as / 2
+        np.add(u, p[:, None, :], out=w)
+        w *= 0.5
+        # Slot 10 j + k of the chunk: u_k (k < 5) or w_(k-5) of parent j0 + j.
+        slots = np.ascontiguousarray(
+            new.view(np.complex128).reshape(n_blocks, 10, -1).swapaxes(1, 2)
+        )
+        first, last = np.searchsorted(step.source, (10 * j0, 10 * j1))
+        np.take(
+            slots.reshape(n_blocks, -1),
+            step.source[first:last] - 10 * j0,
+            axis=1,
+            out=local[:, lo + first : lo + last],
+            mode="clip",
+        )
 
 
 def refine(
@@ -274,19 +293,31 @@ def refine(
     neighbour = cell_neighbours(base.cells, base.n_points)
     n_shared = int(np.count_nonzero(neighbour >= 0)) // 2
     _check_memory(base, n_shared, level, max_memory)
+    try:
+        mesh = _build(base, neighbour, level, smooth, progress)
+    except MemoryError:
+        raise ResourceError(
+            f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
+            "although the prediction fitted (other programs may be using memory); try a lower "
+            "level or free memory"
+        ) from None
+    if numbering == "rcm":
+        mesh = mesh.with_rcm_numbering()
+    return mesh
 
+
+def _build(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
     ids, n_nodes = _global_ids(base.cells, neighbour, base.n_points, level)
     template = pentagon_template(level)
     identity = ids is None
-    if identity:
-        ids = np.arange(n_nodes)[None, :]
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
     local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
     points = local[0] if identity else np.empty(n_nodes, dtype=np.complex128)
-    fixed = None
     if smooth:
         from .smooth import block_edge_nodes, smooth_interior
 
+        if identity:
+            ids = np.arange(n_nodes)[None, :]
         fixed = block_edge_nodes(ids, neighbour, level)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
@@ -308,18 +339,15 @@ def refine(
         cells = template.cells.copy()
     else:
         cells = np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5)
-
-    mesh = _assemble(base, ids, neighbour, points, cells, level)
-    if numbering == "rcm":
-        mesh = mesh.with_rcm_numbering()
-    return mesh
+    return _assemble(base, ids, neighbour, points, cells, level)
 
 
 def _assemble(base: Mesh, ids, neighbour, points, cells, steps: int) -> Mesh:
+    """The Mesh of the refined base; ``ids`` None means the template's own numbering."""
     # Each boundary edge of the base splits into 2**steps edges, in the base's order.
     along = pentagon_template(steps).edge_nodes
     cell, edge = _cell_edge_of_boundary(base, neighbour)
-    nodes = ids[cell[:, None], along[edge]]
+    nodes = along[edge] if ids is None else ids[cell[:, None], along[edge]]
     boundary_edges = np.stack([nodes[:, :-1], nodes[:, 1:]], axis=-1).reshape(-1, 2)
     repeat = 6**steps
     n_cells = cells.shape[0]
@@ -330,11 +358,11 @@ def _assemble(base: Mesh, ids, neighbour, points, cells, steps: int) -> Mesh:
     arrays = {
         "points": points,
         "cells": cells,
-        "block_id": np.repeat(base.block_id, repeat),
+        "block_id": _repeat(base.block_id, repeat),
         "parent": parent,
         "boundary_edges": boundary_edges,
         "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
-        "region": np.repeat(base.region, repeat),
+        "region": _repeat(base.region, repeat),
     }
     for array in arrays.values():
         array.setflags(write=False)
@@ -345,6 +373,13 @@ def _assemble(base: Mesh, ids, neighbour, points, cells, steps: int) -> Mesh:
         level=base.level + steps,
         name=base.name,
     )
+
+
+def _repeat(values: np.ndarray, count: int) -> np.ndarray:
+    """``np.repeat(values, count)``; all zeros come from ``np.zeros`` (lazily zeroed memory)."""
+    if not np.any(values):
+        return np.zeros(values.size * count, dtype=np.int64)
+    return np.repeat(values, count)
 
 
 def _cell_edge_of_boundary(base: Mesh, neighbour: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

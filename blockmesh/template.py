@@ -77,10 +77,10 @@ class LevelStep:
     corners : ndarray (5, C) int64
         Corner ``i`` of every cell of the previous level (corner-major, so that the arithmetic runs
         on contiguous rows).
-    source : ndarray (n_l - n_(l-1),) int64
-        For each new node in numbering order, its position in ``[u.ravel(), w.ravel()]`` where
-        ``u`` and ``w`` (each (5, C)) are the midpoints and inner points of the previous level's
-        cells.
+    source : ndarray (n_l - n_(l-1),) int64, increasing
+        For each new node in numbering order, its slot ``10 j + k``: midpoint ``u_k`` (k < 5) or
+        inner point ``w_(k-5)`` of cell j of the previous level. The new nodes of cells
+        ``j0..j1-1`` are therefore a contiguous run of ``source`` (found by ``searchsorted``).
     """
 
     corners: np.ndarray
@@ -152,8 +152,8 @@ def _refine_step(parents, neighbour, boundary, n_old, *, want_neighbours):
     points15[:, 10:] = rank.reshape(n_parents, 10)[:, 5:]
     cells = np.take(points15, CHILD_PATTERN.ravel(), axis=1, mode="clip").reshape(-1, 5)
 
-    # Where each new node's coordinates come from: u[i, j] is at i*C + j, w[i, j] at 5C + i*C + j.
-    source = np.extract(present, np.arange(10) * n_parents + row)
+    # Where each new node's coordinates come from: the present slots, in order.
+    source = np.flatnonzero(present.ravel())
 
     # The outer boundary: segment (cell j, edge i) splits into (child i, edge 0) and
     # (child i+1, edge 4); its midpoint is u[j, i].

@@ -214,3 +214,14 @@ def test_mesh_arrays_are_read_only(catalogue):
 def test_from_cells_and_refine_of_a_plain_mesh():
     mesh = refine(Mesh.from_cells(np.array(SP), [[0, 1, 2, 3, 4]]), 3)
     assert mesh.n_cells == 216 and mesh.area == pytest.approx(5.0, rel=1e-14)
+
+
+def test_running_out_of_memory_is_a_resource_error(catalogue, monkeypatch):
+    import blockmesh.refinement as refinement
+
+    def exhausted(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(refinement, "_place_level", exhausted)
+    with pytest.raises(ResourceError, match="ran out of memory refining sp to level 3"):
+        refine(catalogue["sp"], 3)
