@@ -18,7 +18,7 @@ import numpy as np
 from .atomic import atomic_file
 from .errors import ExportError
 
-__all__ = ["plot_domain", "plot_mesh", "plot_quality"]
+__all__ = ["plot_domain", "plot_mesh", "plot_quality", "pyplot", "save_figure"]
 
 #: Meshes with at most this many cells get node and cell numbers (like the paper's Figs. 2-4).
 LABEL_LIMIT = 400
@@ -26,7 +26,8 @@ _PATCH_COLOURS = ("#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564
 _REGION_SHADES = ("#f2f2f2", "#fde9c9", "#dff0d8", "#dbe9f6", "#f4dcec", "#e8e1f3")
 
 
-def _pyplot():
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (no screen needed), imported on first use."""
     import matplotlib
 
     matplotlib.use("Agg", force=True)
@@ -35,16 +36,17 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path: str | Path) -> Path:
+def save_figure(fig, path: str | Path, *, dpi: int = 150) -> Path:
+    """Write ``fig`` to a .png, .pdf or .svg file atomically, then close it."""
     path = Path(path)
     kind = path.suffix.lower()[1:]
     try:
         if kind not in {"png", "pdf", "svg"}:
             raise ExportError(f"cannot draw {path}: pictures are .png, .pdf or .svg files")
         with atomic_file(path) as temporary:
-            fig.savefig(temporary, format=kind, dpi=150, bbox_inches="tight")
+            fig.savefig(temporary, format=kind, dpi=dpi, bbox_inches="tight")
     finally:
-        _pyplot().close(fig)
+        pyplot().close(fig)
     return path
 
 
@@ -74,7 +76,7 @@ def plot_domain(domain, path: str | Path) -> Path:
     """
     from matplotlib.collections import PolyCollection
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 7))
     xy = domain.vertices[domain.blocks]
     shades = [_REGION_SHADES[r % len(_REGION_SHADES)] for r in domain.region]
@@ -107,7 +109,7 @@ def plot_domain(domain, path: str | Path) -> Path:
         f"{domain.name}: {domain.n_blocks} blocks, {domain.n_vertices} vertices "
         f"(blocks bold, vertices blue)",
     )
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
@@ -118,7 +120,7 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     """
     from matplotlib.collections import PolyCollection
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 8))
     xy = mesh.points[mesh.cells]
     n_blocks = int(mesh.block_id.max()) + 1 if mesh.n_cells else 1
@@ -142,14 +144,14 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
         f"{mesh.name or 'mesh'}, level {mesh.level}: {mesh.n_cells:,} cells, "
         f"{mesh.n_points:,} nodes",
     )
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 18) -> Path:
     """Histograms of the cells' interior angles and aspect ratios (diameter**2 / area)."""
     from .geometry import interior_angles, signed_area
 
-    plt = _pyplot()
+    plt = pyplot()
     angle_bins = np.linspace(0.0, 180.0, 91)
     angle_counts = np.zeros(angle_bins.size - 1)
     aspects = []
@@ -172,4 +174,4 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 18) -> Path:
     right.set_ylabel("cells")
     right.legend(fontsize=8)
     fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: quality of {mesh.n_cells:,} cells")
-    return _save(fig, path)
+    return save_figure(fig, path)

@@ -470,12 +470,12 @@ def plot_convergence(results: list[PaperTable], path: str) -> None:
     """Draw error / ∫|f| against level, one line per order, one panel per table and pentagon.
 
     Uses matplotlib's Agg backend (imported here, not at import time). Entries at or below
-    ``1e-17`` are drawn at ``1e-17``; the dashed line is the round-off floor ``1e-13``.
+    ``1e-17`` are drawn at ``1e-17``; the dashed line is the round-off floor ``1e-13``. The file
+    is written atomically (:func:`blockmesh.plot.save_figure`).
     """
-    import matplotlib
+    from .plot import pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     tables = sorted({r.case.table for r in results})
     pentagons = [p for p in PENTAGONS if any(r.case.pentagon == p for r in results)]
@@ -516,8 +516,7 @@ def plot_convergence(results: list[PaperTable], path: str) -> None:
             )
     rule = results[0].rule if results else "paper"
     fig.suptitle(f"|value - reference| / ∫|f| against mesh level, one line per order ({rule} rule)")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def _short(case: PaperCase) -> str:

@@ -160,3 +160,21 @@ def test_every_catalogue_entry_passes_check(capsys, name):
     assert report["connected_components"] == 1
     assert all(b["strictly_convex"] and b["counter_clockwise"] for b in report["block_details"])
     assert report["euler_characteristic"] == 1 - report["holes"]
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["mesh", "sp", "--level", "1", "-o", "{missing}/m.vtu"],
+        ["mesh", "sp", "--level", "1", "--plot", "{missing}/m.png"],
+        ["tables", "--table", "1", "--levels", "1", "--csv", "{missing}/t.csv"],
+        ["tables", "--table", "1", "--levels", "1", "--plot", "{missing}/t.png"],
+    ],
+)
+def test_missing_output_folder_fails_before_the_work(capsys, tmp_path, argv):
+    missing = tmp_path / "no" / "such"
+    argv = [a.replace("{missing}", str(missing)) for a in argv]
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert f"the directory {missing} does not exist" in err
+    assert not (tmp_path / "no").exists()

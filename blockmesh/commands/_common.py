@@ -7,16 +7,18 @@ import json
 import math
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..domain import Domain, load_domain, parse_polygon_string
-from ..errors import BlockMeshError
+from ..errors import BlockMeshError, ExportError
 
 __all__ = [
     "ProgressBar",
     "add_domain_arguments",
+    "check_folders",
     "parse_size",
     "print_json",
     "resolve_domain",
@@ -56,6 +58,19 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
             "(see 'blockmesh catalogue')"
         )
     return load_domain(domain)
+
+
+def check_folders(*targets: str | None) -> None:
+    """Fail now, not after the work, when an output's folder is missing (``{name}`` allowed)."""
+    for target in targets:
+        if not target:
+            continue
+        folder = Path(target).absolute().parent
+        if "{" not in str(folder) and not folder.is_dir():
+            raise ExportError(
+                f"cannot write {target}: the directory {folder} does not exist; create it first "
+                f"(mkdir -p {folder})"
+            )
 
 
 def _plain(value: Any) -> Any:

@@ -19,7 +19,7 @@ from ..domain import Domain, load_domain, parse_polygon_string
 from ..errors import BlockMeshError
 from ..io import SPLITS, format_for_path
 from ..refinement import NUMBERINGS, refine
-from ._common import ProgressBar, add_domain_arguments, parse_size, print_json
+from ._common import ProgressBar, add_domain_arguments, check_folders, parse_size, print_json
 
 
 def register(subparsers) -> None:
@@ -135,6 +135,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    check_folders(args.output, args.plot, args.quality_plot)
     if args.output:
         # Fail before meshing: an unknown format or a missing --split is known now.
         fmt = format_for_path(args.output, args.format)

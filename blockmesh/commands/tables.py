@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
+from ..atomic import atomic_file
 from ..quadrature import RULES
 from ..tables import PENTAGONS, TABLES, compute_table, format_table, plot_convergence, write_csv
+from ._common import check_folders
 
 __all__ = ["register", "run"]
 
@@ -75,6 +78,7 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_folders(args.csv, args.plot)
     pentagons = tuple(PENTAGONS) if args.pentagon == "both" else (args.pentagon,)
     results = []
     for table in args.table:
@@ -93,7 +97,10 @@ def run(args: argparse.Namespace) -> int:
         f"{result.case.pentagon}; round-off floor 1e-13)"
     )
     if args.csv:
-        with open(args.csv, "w", encoding="utf-8", newline="") as handle:
+        with (
+            atomic_file(Path(args.csv)) as temporary,
+            open(temporary, "w", encoding="utf-8", newline="") as handle,
+        ):
             rows = write_csv(results, handle)
         print(f"wrote {rows} rows to {args.csv}")
     if args.plot:
