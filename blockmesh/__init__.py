@@ -14,6 +14,8 @@ Examples
 
 from .domain import Domain, load_domain, parse_polygon_string
 from .errors import (
+    ArgumentError,
+    ArgumentTypeError,
     BlockMeshError,
     BlockMeshWarning,
     DomainError,
@@ -21,6 +23,7 @@ from .errors import (
     ExportError,
     ExpressionError,
     ResourceError,
+    SolverError,
     TopologyError,
 )
 from .exact import exact_integral
@@ -31,6 +34,8 @@ from .quadrature import IntegrationResult, integrate, integrate_to_tolerance, qu
 from .refinement import refine
 
 __all__ = [
+    "ArgumentError",
+    "ArgumentTypeError",
     "BlockMeshError",
     "BlockMeshWarning",
     "Domain",
@@ -42,6 +47,7 @@ __all__ = [
     "Mesh",
     "MeshQuality",
     "ResourceError",
+    "SolverError",
     "TopologyError",
     "exact_integral",
     "integrate",

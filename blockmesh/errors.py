@@ -14,6 +14,8 @@ True
 from __future__ import annotations
 
 __all__ = [
+    "ArgumentError",
+    "ArgumentTypeError",
     "BlockMeshError",
     "BlockMeshWarning",
     "DomainError",
@@ -21,12 +23,27 @@ __all__ = [
     "ExportError",
     "ExpressionError",
     "ResourceError",
+    "SolverError",
     "TopologyError",
 ]
 
 
 class BlockMeshError(Exception):
     """Base class of every error blockmesh raises on bad input or impossible requests."""
+
+
+class ArgumentError(BlockMeshError, ValueError):
+    """An argument of a library call has a value it cannot take (a level of -1, an unknown rule).
+
+    Also a :class:`ValueError`, so code that catches the built-in keeps working.
+    """
+
+
+class ArgumentTypeError(BlockMeshError, TypeError):
+    """An argument of a library call has the wrong type (a string where a Mesh is needed).
+
+    Also a :class:`TypeError`.
+    """
 
 
 class DomainError(BlockMeshError):
@@ -51,6 +68,10 @@ class ExportError(BlockMeshError):
 
 class ResourceError(BlockMeshError):
     """A request needs more memory (or other resources) than allowed."""
+
+
+class SolverError(BlockMeshError):
+    """A boundary-value problem is ill-posed (no Dirichlet data, unknown patch) or unsolvable."""
 
 
 class BlockMeshWarning(UserWarning):
