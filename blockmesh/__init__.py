@@ -25,6 +25,7 @@ from .errors import (
     ResourceError,
     SolverError,
     TopologyError,
+    UnknownNameError,
 )
 from .exact import exact_integral
 from .expr import parse_expression
@@ -49,6 +50,7 @@ __all__ = [
     "ResourceError",
     "SolverError",
     "TopologyError",
+    "UnknownNameError",
     "exact_integral",
     "integrate",
     "integrate_to_tolerance",

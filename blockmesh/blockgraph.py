@@ -20,6 +20,8 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
+from .topology import count_loops
+
 __all__ = ["block_graph", "certificate"]
 
 
@@ -77,7 +79,7 @@ def certificate(domain) -> dict[str, Any]:
     n_edges = domain.n_shared_edges + domain.boundary_edges.shape[0]
     euler = domain.n_vertices - n_edges + domain.n_blocks
     components = nx.number_connected_components(graph)
-    loops = _count_loops(domain.boundary_edges)
+    loops = count_loops(domain.boundary_edges)
     blocks = [
         {
             "block": b,
@@ -113,10 +115,3 @@ def certificate(domain) -> dict[str, Any]:
         "max_angle": float(angles.max()),
         "block_details": blocks,
     }
-
-
-def _count_loops(boundary_edges: np.ndarray) -> int:
-    """Number of closed boundary loops (cycles of the boundary graph)."""
-    graph = nx.Graph()
-    graph.add_edges_from(map(tuple, boundary_edges.tolist()))
-    return int(nx.number_connected_components(graph))

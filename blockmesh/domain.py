@@ -31,8 +31,8 @@ import numpy as np
 from .errors import DomainError, DomainFormatError
 from .geometry import interior_angles, signed_area
 from .mesh import Mesh
-from .refinement import cell_neighbours
 from .tomlio import dumps_domain, parse_domain_text, read_domain_file
+from .topology import boundary_loops, cell_neighbours
 from .validate import (
     check_block_shapes,
     check_polygon,
@@ -97,7 +97,7 @@ class Domain:
         check_block_shapes(vertices, blocks, repair=False)
         neighbour = _neighbours(blocks, vertices.shape[0])
         check_topology(vertices, blocks, neighbour)
-        boundary = _boundary_loops(blocks, neighbour)
+        boundary = boundary_loops(blocks, neighbour)
         given = np.asarray(self.boundary_edges, dtype=np.int64).reshape(-1, 2)
         if not np.array_equal(given, boundary):
             raise DomainError(
@@ -163,7 +163,7 @@ class Domain:
         block_ids = check_block_shapes(points, block_ids, repair=True)
         neighbour = _neighbours(block_ids, points.shape[0])
         check_topology(points, block_ids, neighbour)
-        boundary = _boundary_loops(block_ids, neighbour)
+        boundary = boundary_loops(block_ids, neighbour)
         owners = _edge_owners(block_ids)
         patch_names, patch = resolve_patches(boundary, patches, owners)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
@@ -318,7 +318,7 @@ class Domain:
     def block_mesh(self) -> Mesh:
         """The blocks themselves as a level-0 :class:`~blockmesh.mesh.Mesh`."""
         n = self.n_blocks
-        return Mesh(
+        return Mesh._trusted(
             points=self.vertices,
             cells=self.blocks,
             block_id=np.arange(n),
@@ -362,32 +362,6 @@ def _edge_owners(blocks: np.ndarray) -> dict[tuple[int, int], list[int]]:
             a, c = block[k], block[(k + 1) % 5]
             owners.setdefault((min(a, c), max(a, c)), []).append(b)
     return owners
-
-
-def _boundary_loops(blocks: np.ndarray, neighbour: np.ndarray) -> np.ndarray:
-    """Boundary edges chained into loops, each loop starting at its lowest vertex id.
-
-    Loops are listed by their lowest vertex id; where several boundary edges leave one vertex (two
-    loops touching there) the walk takes the lowest-numbered remaining edge.
-    """
-    b, e = np.nonzero(neighbour < 0)
-    start = blocks[b, e]
-    stop = blocks[b, (e + 1) % 5]
-    leaving: dict[int, list[int]] = {}
-    for k in np.lexsort((stop, start)).tolist():
-        leaving.setdefault(int(start[k]), []).append(k)
-    used = np.zeros(start.size, dtype=bool)
-    ordered: list[int] = []
-    for first in np.lexsort((stop, start)).tolist():
-        k = first
-        while not used[k]:
-            used[k] = True
-            ordered.append(k)
-            candidates = [j for j in leaving.get(int(stop[k]), []) if not used[j]]
-            if not candidates:
-                break
-            k = candidates[0]
-    return np.stack([start[ordered], stop[ordered]], axis=1).reshape(-1, 2)
 
 
 def _polygon_edge_patches(

@@ -25,6 +25,7 @@ __all__ = [
     "ResourceError",
     "SolverError",
     "TopologyError",
+    "UnknownNameError",
 ]
 
 
@@ -44,6 +45,17 @@ class ArgumentTypeError(BlockMeshError, TypeError):
 
     Also a :class:`TypeError`.
     """
+
+
+class UnknownNameError(ArgumentError, KeyError):
+    """A name (patch, region, format, catalogue entry) that does not exist.
+
+    The message lists the names that do exist. Also a :class:`KeyError` (and a
+    ``ValueError``); its text is the plain message.
+    """
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
 
 
 class DomainError(BlockMeshError):

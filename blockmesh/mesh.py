@@ -15,50 +15,56 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import MISSING, dataclass, field, fields
 from typing import Any
 
 import numpy as np
 
+from .errors import ArgumentError, ArgumentTypeError, UnknownNameError
 from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
+from .topology import boundary_of_cells, boundary_slots, cell_neighbours, unique_edges
 
-__all__ = ["Mesh", "MeshQuality", "edge_keys", "unique_edges"]
-
-
-def _frozen(a: Any, dtype: Any, shape_tail: tuple[int, ...] = ()) -> np.ndarray:
-    arr = np.ascontiguousarray(a, dtype=dtype)
-    if shape_tail and arr.shape[1:] != shape_tail:
-        raise ValueError(f"expected shape (n, {', '.join(map(str, shape_tail))}), got {arr.shape}")
-    if arr.flags.writeable:
-        if arr.base is not None or arr is a:
-            arr = arr.copy()
-        arr.setflags(write=False)
-    return arr
+__all__ = ["Mesh", "MeshQuality"]
 
 
-def edge_keys(a: np.ndarray, b: np.ndarray, n_points: int) -> np.ndarray:
-    """One int64 per undirected edge: ``min * n_points + max``.
-
-    Examples
-    --------
-    >>> edge_keys(np.array([3, 1]), np.array([1, 3]), 10).tolist()
-    [13, 13]
-    """
-    a = np.asarray(a, dtype=np.int64)
-    b = np.asarray(b, dtype=np.int64)
-    return np.minimum(a, b) * n_points + np.maximum(a, b)
+#: Cells whose measures are computed at once by the chunked checks and measures.
+_CHUNK = 1 << 18
 
 
-def unique_edges(cells: np.ndarray, n_points: int) -> np.ndarray:
-    """Unique undirected edges (E, 2) of polygon cells, sorted by (min, max) node id.
+def _frozen(values: Any, dtype: Any, what: str, tail: tuple[int, ...] = ()) -> np.ndarray:
+    """``values`` as a contiguous read-only array of ``dtype`` and shape ``(n, *tail)``."""
+    integer = np.issubdtype(np.dtype(dtype), np.integer)
+    if integer and isinstance(values, np.ndarray) and values.dtype.kind == "f":
+        raise ArgumentTypeError(f"Mesh {what} must be integers, got {values.dtype}")
+    try:
+        array = np.ascontiguousarray(values, dtype=dtype)
+    except (TypeError, ValueError) as error:
+        raise ArgumentTypeError(
+            f"Mesh {what} cannot be read as {np.dtype(dtype)}: {error}"
+        ) from None
+    if array.ndim != 1 + len(tail) or array.shape[1:] != tail:
+        shape = "(n" + "".join(f", {t}" for t in tail) + ")"
+        raise ArgumentError(f"Mesh {what} must have shape {shape}, got {array.shape}")
+    if array.flags.writeable:
+        if array.base is not None or array is values:
+            array = array.copy()
+        array.setflags(write=False)
+    return array
 
-    Examples
-    --------
-    >>> unique_edges(np.array([[0, 1, 2, 3, 4], [1, 5, 6, 7, 2]]), 8).shape
-    (9, 2)
-    """
-    keys = np.unique(edge_keys(cells, np.roll(cells, -1, axis=1), n_points).ravel())
-    return np.stack(np.divmod(keys, n_points), axis=1)
+
+def _check_range(values: np.ndarray, low: int, high: int, what: str, upper: str) -> None:
+    """ArgumentError naming the first entry of ``values`` outside ``low..high - 1``."""
+    if values.size == 0:
+        return
+    if int(values.min()) >= low and int(values.max()) < high:
+        return
+    flat = values.reshape(values.shape[0], -1)
+    row = int(np.flatnonzero(np.any((flat < low) | (flat >= high), axis=1))[0])
+    shown = flat[row].tolist()
+    raise ArgumentError(
+        f"{what} {row} is {shown[0] if len(shown) == 1 else shown}, but {upper} "
+        f"(valid: {low}..{high - 1})"
+    )
 
 
 @dataclass(frozen=True)
@@ -90,7 +96,7 @@ class MeshQuality:
         }
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Mesh:
     """A conforming all-pentagon mesh.
 
@@ -132,14 +138,97 @@ class Mesh:
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        self._freeze()
+        self._check_arrays()
+        self._check_cells()
+
+    @classmethod
+    def _trusted(cls, **values: Any) -> Mesh:
+        """A Mesh from arrays consistent by construction (refinement, a validated Domain).
+
+        Only the cheap O(M) checks of :meth:`_check_arrays` run (shapes, lengths, index ranges);
+        orientation and boundary matching, which the constructor also checks, are skipped.
+        """
+        mesh = object.__new__(cls)
+        for f in fields(cls):
+            if f.name in values:
+                value = values[f.name]
+            elif f.default_factory is not MISSING:
+                value = f.default_factory()
+            else:
+                value = f.default
+            object.__setattr__(mesh, f.name, value)
+        mesh._freeze()
+        mesh._check_arrays()
+        return mesh
+
+    def _freeze(self) -> None:
         set_ = object.__setattr__
-        set_(self, "points", _frozen(self.points, np.float64, (2,)))
-        set_(self, "cells", _frozen(self.cells, np.int64, (5,)))
+        set_(self, "points", _frozen(self.points, np.float64, "points", (2,)))
+        set_(self, "cells", _frozen(self.cells, np.int64, "cells", (5,)))
         for name in ("block_id", "parent", "boundary_patch", "region"):
-            set_(self, name, _frozen(getattr(self, name), np.int64))
-        set_(self, "boundary_edges", _frozen(self.boundary_edges, np.int64, (2,)))
-        set_(self, "patch_names", tuple(self.patch_names))
-        set_(self, "region_names", tuple(self.region_names))
+            set_(self, name, _frozen(getattr(self, name), np.int64, name))
+        set_(self, "boundary_edges", _frozen(self.boundary_edges, np.int64, "boundary_edges", (2,)))
+        for name in ("patch_names", "region_names"):
+            names = getattr(self, name)
+            if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+                raise ArgumentTypeError(f"Mesh {name} must be a sequence of strings, got {names!r}")
+            if len(set(names)) != len(names):
+                raise ArgumentError(f"Mesh {name} must be different names, got {names!r}")
+            set_(self, name, tuple(names))
+        if isinstance(self.level, bool) or not isinstance(self.level, int | np.integer):
+            raise ArgumentTypeError(f"Mesh level must be a whole number, got {self.level!r}")
+        set_(self, "level", int(self.level))
+        if not isinstance(self.name, str):
+            raise ArgumentTypeError(f"Mesh name must be a string, got {self.name!r}")
+
+    def _check_arrays(self) -> None:
+        """Shapes, lengths and index ranges: O(M), always checked."""
+        n, m, eb = self.n_points, self.n_cells, int(self.boundary_edges.shape[0])
+        for name in ("block_id", "parent", "region"):
+            length = getattr(self, name).shape[0]
+            if length != m:
+                raise ArgumentError(f"Mesh {name} has {length} entries for {m} cells")
+        if self.boundary_patch.shape[0] != eb:
+            raise ArgumentError(
+                f"Mesh boundary_patch has {self.boundary_patch.shape[0]} entries for {eb} "
+                "boundary edges"
+            )
+        points_note = f"there are {n} points"
+        _check_range(self.cells, 0, n, "cell", points_note)
+        _check_range(self.boundary_edges, 0, n, "boundary edge", points_note)
+        _check_range(self.block_id, 0, np.iinfo(np.int64).max, "block_id of cell", "ids are >= 0")
+        _check_range(self.parent, -1, np.iinfo(np.int64).max, "parent of cell", "ids are >= -1")
+        _check_range(
+            self.boundary_patch,
+            0,
+            len(self.patch_names),
+            "boundary_patch of edge",
+            f"there are {len(self.patch_names)} patch names",
+        )
+        _check_range(
+            self.region,
+            0,
+            len(self.region_names),
+            "region of cell",
+            f"there are {len(self.region_names)} region names",
+        )
+
+    def _check_cells(self) -> None:
+        """Finite points, counter-clockwise cells, boundary edges exactly the free cell edges."""
+        if not np.all(np.isfinite(self.points)):
+            bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
+            raise ArgumentError(f"point {bad} {self.points[bad].tolist()} is not finite")
+        for start in range(0, self.n_cells, _CHUNK):
+            areas = signed_area(self.points[self.cells[start : start + _CHUNK]])
+            if not np.all(areas > 0):
+                bad = start + int(np.flatnonzero(~(areas > 0))[0])
+                raise ArgumentError(
+                    f"cell {bad} (nodes {', '.join(map(str, self.cells[bad]))}) is clockwise or "
+                    "has no area; cells run counter-clockwise"
+                )
+        neighbour = cell_neighbours(self.cells, self.n_points)
+        boundary_slots(self.cells, neighbour, self.boundary_edges, self.n_points)
 
     @classmethod
     def from_cells(
@@ -160,11 +249,7 @@ class Mesh:
         """
         points = np.asarray(points, dtype=np.float64)
         cells = np.asarray(cells, dtype=np.int64).reshape(-1, 5)
-        nxt = np.roll(cells, -1, axis=1)
-        keys = edge_keys(cells, nxt, points.shape[0]).ravel()
-        _, inverse, counts = np.unique(keys, return_inverse=True, return_counts=True)
-        on_boundary = counts[inverse] == 1
-        boundary = np.stack([cells.ravel()[on_boundary], nxt.ravel()[on_boundary]], axis=1)
+        boundary = boundary_of_cells(cells, points.shape[0])
         n = cells.shape[0]
         return cls(
             points=points,
@@ -277,15 +362,13 @@ class Mesh:
         if order.shape != (self.n_points,) or not np.array_equal(
             np.sort(order), np.arange(self.n_points)
         ):
-            raise ValueError("order must be a permutation of the node ids 0..N-1")
+            raise ArgumentError("order must be a permutation of the node ids 0..N-1")
         new_id = np.empty_like(order)
         new_id[order] = np.arange(self.n_points)
-        return replace(
-            self,
+        return self._copy(
             points=self.points[order],
             cells=new_id[self.cells],
             boundary_edges=new_id[self.boundary_edges],
-            _cache={},
         )
 
     def with_rcm_numbering(self) -> Mesh:
@@ -320,8 +403,75 @@ class Mesh:
         (20, 2)
         """
         if patch not in self.patch_names:
-            raise KeyError(f"no patch {patch!r}; the patches are {', '.join(self.patch_names)}")
+            raise UnknownNameError(
+                f"no patch {patch!r}; the patches are {', '.join(self.patch_names)}"
+            )
         return self.boundary_edges[self.boundary_patch == self.patch_names.index(patch)]
+
+    # ------------------------------------------------------------ copies
+    def _copy(self, **changes: Any) -> Mesh:
+        """A copy with some arrays replaced; the cheap checks run, the caches start empty."""
+        values = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "_cache"}
+        values.update(changes)
+        return Mesh._trusted(**values)
+
+    def with_patches(self, boundary_patch: Any, patch_names: Any) -> Mesh:
+        """The same mesh with its boundary edges put in other patches.
+
+        Parameters
+        ----------
+        boundary_patch : array_like (Eb,) int
+            Index into ``patch_names`` of every boundary edge, in the order of ``boundary_edges``.
+        patch_names : sequence of str
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> first = (np.arange(10) < 2).astype(int)
+        >>> mesh.with_patches(first, ["wall", "inlet"]).patch_edges("inlet").tolist()
+        [[0, 5], [5, 1]]
+        """
+        return self._copy(boundary_patch=boundary_patch, patch_names=tuple(patch_names))
+
+    def with_regions(self, region: Any, region_names: Any) -> Mesh:
+        """The same mesh with its cells put in other regions (``region`` indexes the names).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> mesh.with_regions(np.arange(6) % 2, ["even", "odd"]).region_names
+        ('even', 'odd')
+        """
+        return self._copy(region=region, region_names=tuple(region_names))
+
+    def with_points(self, points: Any) -> Mesh:
+        """The same cells on moved nodes (e.g. after smoothing); orientation is checked again.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> round(mesh.with_points(2 * mesh.points).area, 12)
+        20.0
+        """
+        moved = self._copy(points=points)
+        moved._check_cells()
+        return moved
+
+    def with_name(self, name: str) -> Mesh:
+        """The same mesh under another name."""
+        return self._copy(name=name)
+
+    def __repr__(self) -> str:
+        """A one-line summary (the arrays are not printed)."""
+        name = f"{self.name!r}, " if self.name else ""
+        return (
+            f"Mesh({name}level {self.level}: {self.n_cells:,} cells, {self.n_points:,} points, "
+            f"{self.boundary_edges.shape[0]:,} boundary edges; patches "
+            f"{', '.join(self.patch_names) or '-'}; regions {', '.join(self.region_names) or '-'})"
+        )
 
     def nbytes(self) -> int:
         """Bytes held by the mesh's arrays."""

@@ -28,14 +28,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import BlockMeshError, ResourceError
-from .mesh import Mesh, edge_keys
+from .mesh import Mesh
 from .template import node_count, pentagon_template
+from .topology import boundary_slots, cell_neighbours
 
 __all__ = [
     "NUMBERINGS",
     "MeshSize",
     "available_memory",
-    "cell_neighbours",
     "predict_size",
     "refine",
 ]
@@ -44,38 +44,6 @@ __all__ = [
 NUMBERINGS = ("nested", "rcm")
 
 ProgressCallback = Callable[[int, int], None]
-
-
-# --------------------------------------------------------------------------- adjacency
-def cell_neighbours(cells: np.ndarray, n_points: int) -> np.ndarray:
-    """For each cell edge ``i`` (from corner i to i+1), the facing ``5 * cell + edge``, or -1.
-
-    Raises :class:`~blockmesh.errors.BlockMeshError` when an edge has more than two cells.
-    O(M log M).
-
-    Examples
-    --------
-    >>> cell_neighbours(np.array([[0, 1, 2, 3, 4], [1, 5, 6, 7, 2]]), 8).tolist()
-    [[-1, 9, -1, -1, -1], [-1, -1, -1, -1, 1]]
-    """
-    cells = np.asarray(cells, dtype=np.int64)
-    keys = edge_keys(cells, np.roll(cells, -1, axis=1), n_points).ravel()
-    order = np.argsort(keys, kind="stable")
-    sorted_keys = keys[order]
-    same_as_next = sorted_keys[1:] == sorted_keys[:-1]
-    if np.any(same_as_next[1:] & same_as_next[:-1]):
-        k = int(np.flatnonzero(same_as_next[1:] & same_as_next[:-1])[0])
-        a, b = divmod(int(sorted_keys[k]), n_points)
-        owners = sorted({int(x) // 5 for x in order[k : k + 3]})
-        raise BlockMeshError(
-            f"edge ({a}, {b}) belongs to three or more cells ({', '.join(map(str, owners))}); "
-            "each edge may be shared by two cells at most"
-        )
-    neighbour = np.full(keys.size, -1, dtype=np.int64)
-    pairs = np.flatnonzero(same_as_next)
-    neighbour[order[pairs]] = order[pairs + 1]
-    neighbour[order[pairs + 1]] = order[pairs]
-    return neighbour.reshape(-1, 5)
 
 
 # --------------------------------------------------------------------------- sizes and memory
@@ -346,7 +314,9 @@ def _assemble(base: Mesh, ids, neighbour, points, cells, steps: int) -> Mesh:
     """The Mesh of the refined base; ``ids`` None means the template's own numbering."""
     # Each boundary edge of the base splits into 2**steps edges, in the base's order.
     along = pentagon_template(steps).edge_nodes
-    cell, edge = _cell_edge_of_boundary(base, neighbour)
+    cell, edge = np.divmod(
+        boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
+    )
     nodes = along[edge] if ids is None else ids[cell[:, None], along[edge]]
     boundary_edges = np.stack([nodes[:, :-1], nodes[:, 1:]], axis=-1).reshape(-1, 2)
     repeat = 6**steps
@@ -366,7 +336,7 @@ def _assemble(base: Mesh, ids, neighbour, points, cells, steps: int) -> Mesh:
     }
     for array in arrays.values():
         array.setflags(write=False)
-    return Mesh(
+    return Mesh._trusted(
         **arrays,
         patch_names=base.patch_names,
         region_names=base.region_names,
@@ -380,22 +350,6 @@ def _repeat(values: np.ndarray, count: int) -> np.ndarray:
     if not np.any(values):
         return np.zeros(values.size * count, dtype=np.int64)
     return np.repeat(values, count)
-
-
-def _cell_edge_of_boundary(base: Mesh, neighbour: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The (cell, edge) of each of the base's boundary edges, in the base's order."""
-    cell, edge = np.nonzero(neighbour < 0)
-    start, stop = base.cells[cell, edge], base.cells[cell, (edge + 1) % 5]
-    known = start * base.n_points + stop  # directed: the boundary runs as the cell does
-    order = np.argsort(known)
-    listed = base.boundary_edges[:, 0] * base.n_points + base.boundary_edges[:, 1]
-    pos = np.minimum(np.searchsorted(known[order], listed), max(known.size - 1, 0))
-    if known.size != listed.size or not np.array_equal(known[order][pos], listed):
-        raise BlockMeshError(
-            "the mesh's boundary_edges are not exactly the boundary edges of its cells (oriented "
-            "as the cells run); build meshes with Domain.mesh(), Mesh.from_cells() or refine()"
-        )
-    return cell[order][pos], edge[order][pos]
 
 
 def _check_memory(base: Mesh, n_shared: int, level: int, max_memory: int | None) -> None:

@@ -29,6 +29,7 @@ import shapely
 
 from .errors import BlockMeshWarning, DomainError, DomainFormatError, TopologyError
 from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
+from .topology import connected_pieces
 
 __all__ = [
     "DEFAULT_PATCH",
@@ -430,7 +431,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
 def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarray) -> None:
     """Check that blocks meet edge to edge: no overlaps, gaps, hanging nodes, loose blocks.
 
-    ``neighbour`` is :func:`blockmesh.refinement.cell_neighbours` of the blocks (computed by the
+    ``neighbour`` is :func:`blockmesh.topology.cell_neighbours` of the blocks (computed by the
     caller, which also rejects edges shared by three blocks). Raises TopologyError.
     """
     polygons = shapely.polygons(vertices[blocks])
@@ -522,12 +523,7 @@ def _check_near_edges(vertices: np.ndarray, blocks: np.ndarray, scale: float) ->
 
 
 def _check_connected(blocks: np.ndarray, neighbour: np.ndarray) -> None:
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    b, e = np.nonzero(neighbour >= 0)
-    graph = coo_matrix((np.ones(b.size), (b, neighbour[b, e] // 5)), shape=(blocks.shape[0],) * 2)
-    count, label = connected_components(graph, directed=False)
+    count, label = connected_pieces(neighbour)
     if count == 1:
         return
     groups = [np.flatnonzero(label == k) for k in range(count)]

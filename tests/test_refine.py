@@ -10,8 +10,8 @@ from paper_numbering import paper_cells
 import blockmesh
 from blockmesh import Domain, Mesh, ResourceError, refine
 from blockmesh.geometry import is_strictly_convex, signed_area
-from blockmesh.mesh import edge_keys
 from blockmesh.refinement import predict_size
+from blockmesh.topology import edge_keys
 
 LEVELS = range(5)
 

@@ -21,12 +21,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import ExportError
-from ..mesh import Mesh, edge_keys
+from ..mesh import Mesh
+from ..topology import boundary_of_cells
 
 __all__ = [
     "METADATA_VERSION",
     "Format",
-    "boundary_of_cells",
     "check_mesh",
     "decode_metadata",
     "encode_metadata",
@@ -121,21 +121,6 @@ def decode_metadata(text: str | bytes | None, where: str = "the file") -> dict[s
     if not isinstance(meta, dict):
         raise ExportError(f"the blockmesh metadata in {where} is not a JSON object")
     return meta
-
-
-def boundary_of_cells(cells: np.ndarray, n_points: int) -> np.ndarray:
-    """Directed boundary edges (E, 2) of CCW cells: the cell edges no other cell shares.
-
-    Examples
-    --------
-    >>> boundary_of_cells(np.array([[0, 1, 2, 3, 4]]), 5).tolist()
-    [[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]]
-    """
-    nxt = np.roll(cells, -1, axis=1)
-    keys = edge_keys(cells, nxt, n_points).ravel()
-    _, inverse, counts = np.unique(keys, return_inverse=True, return_counts=True)
-    on_boundary = counts[inverse] == 1
-    return np.stack([cells.ravel()[on_boundary], nxt.ravel()[on_boundary]], axis=1)
 
 
 def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:

@@ -50,7 +50,8 @@ import numpy as np
 
 from ..atomic import atomic_file
 from ..errors import ExportError
-from ..mesh import Mesh, edge_keys
+from ..mesh import Mesh
+from ..topology import edge_keys
 from ._ascii import write_rows
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays
 from .split import check_split, split_boundary, split_cells

@@ -56,7 +56,7 @@ from ..atomic import atomic_dir, atomic_file, check_target
 from ..errors import ExportError
 from ..geometry import signed_area
 from ..mesh import Mesh
-from ..refinement import cell_neighbours
+from ..topology import boundary_slots, cell_neighbours
 from ._ascii import float_bytes, write_rows
 from ._common import Format, mesh_from_arrays
 
@@ -152,20 +152,7 @@ def _faces(mesh: Mesh) -> dict[str, np.ndarray]:
     own, nei = own[order], nei[order]
     side_a, side_b = a[internal][order], b[internal][order]
 
-    free = np.flatnonzero(nb < 0)
-    free_key = a[free] * n + b[free]
-    by_key = np.argsort(free_key)
-    be = mesh.boundary_edges
-    key = be[:, 0] * n + be[:, 1]
-    pos = np.minimum(np.searchsorted(free_key[by_key], key), max(free.size - 1, 0))
-    hit = free.size > 0 and np.array_equal(free_key[by_key][pos], key)
-    if not hit or be.shape[0] != free.size:
-        raise ExportError(
-            f"the mesh's {be.shape[0]} boundary edges do not match the {free.size} cell edges "
-            "without a neighbour (each boundary edge must be a cell edge, domain on its left, "
-            "in exactly one patch)"
-        )
-    b_slot = free[by_key][pos]
+    b_slot = boundary_slots(cells, nb.reshape(m, 5), mesh.boundary_edges, n)
     b_order = np.argsort(mesh.boundary_patch * m + b_slot // 5, kind="stable")
     b_slot = b_slot[b_order]
     patch_sizes = np.bincount(mesh.boundary_patch, minlength=len(mesh.patch_names))

@@ -11,8 +11,9 @@ Three splits, each keeping every pentagon's children together and counter-clockw
     midpoints ``m_i`` (of edge ``v_i v_i+1``). A midpoint is one node shared by the two cells of
     its edge, so the split mesh is conforming; boundary edges split into two lines.
 
-New nodes are appended after the mesh's own: for ``quad5`` first the edge midpoints (in the order
-of :func:`blockmesh.mesh.unique_edges`), then the centres (in cell order); for ``tri5`` the centres.
+New nodes are appended after the mesh's own: for ``quad5`` first the edge midpoints (in the
+order of :func:`blockmesh.topology.unique_edges`), then the centres (in cell order); for ``tri5``
+the centres.
 Element ``k`` of cell ``p`` is row ``n * p + k`` (``n`` = 5 or 3), and its first node is corner 0
 of ``p`` when ``k = 0`` — which lets a reader rebuild each pentagon with its own corner order.
 
@@ -34,7 +35,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import ExportError
-from ..mesh import Mesh, edge_keys
+from ..mesh import Mesh
+from ..topology import edge_index, edge_keys
 
 __all__ = ["SPLITS", "SplitBoundary", "SplitCells", "split_boundary", "split_cells"]
 
@@ -82,9 +84,7 @@ def check_split(split: str | None) -> str:
 
 def _midpoints(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     """Unique edge keys (sorted) and, per cell edge slot (M, 5), the index of its edge."""
-    keys = edge_keys(mesh.cells, np.roll(mesh.cells, -1, axis=1), mesh.n_points)
-    unique, inverse = np.unique(keys.ravel(), return_inverse=True)
-    return unique, inverse.reshape(mesh.cells.shape)
+    return edge_index(mesh.cells, mesh.n_points)
 
 
 def split_cells(mesh: Mesh, split: str) -> SplitCells:
