@@ -31,74 +31,13 @@ from math import factorial
 
 import numpy as np
 
+from .doubledouble import dd_add, dd_div, dd_mul, dd_mul_d, dd_of
 from .errors import BlockMeshError
 
 __all__ = ["MAX_POINTS", "gauss_jacobi", "gauss_legendre"]
 
 #: Largest number of points a rule may have (the cost grows as n**2).
 MAX_POINTS = 1000
-
-_SPLITTER = 134217729.0  # 2**27 + 1, Dekker's splitting constant
-
-
-# --------------------------------------------------------------------------- double-double
-# A double-double number is a pair (hi, lo) of float64 arrays with |lo| <= ulp(hi) / 2.
-def _two_sum(a, b):
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-def _fast_two_sum(a, b):
-    s = a + b
-    return s, b - (s - a)
-
-
-def _split(a):
-    t = _SPLITTER * a
-    hi = t - (t - a)
-    return hi, a - hi
-
-
-def _two_prod(a, b):
-    p = a * b
-    ah, al = _split(a)
-    bh, bl = _split(b)
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-def _dd_add(ah, al, bh, bl):
-    s, e = _two_sum(ah, bh)
-    t, f = _two_sum(al, bl)
-    s, e = _fast_two_sum(s, e + t)
-    return _fast_two_sum(s, e + f)
-
-
-def _dd_mul(ah, al, bh, bl):
-    p, e = _two_prod(ah, bh)
-    return _fast_two_sum(p, e + (ah * bl + al * bh))
-
-
-def _dd_mul_d(ah, al, b):
-    p, e = _two_prod(ah, b)
-    return _fast_two_sum(p, e + al * b)
-
-
-def _dd_div(ah, al, bh, bl):
-    q1 = ah / bh
-    ph, pl = _dd_mul_d(bh, bl, q1)
-    rh, rl = _dd_add(ah, al, -ph, -pl)
-    q2 = rh / bh
-    ph, pl = _dd_mul_d(bh, bl, q2)
-    rh, rl = _dd_add(rh, rl, -ph, -pl)
-    q3 = rh / bh
-    h, l = _fast_two_sum(q1, q2)
-    return _dd_add(h, l, q3, 0.0 * q3)
-
-
-def _dd_of(value: Fraction) -> tuple[float, float]:
-    hi = float(value)
-    return hi, float(value - Fraction(hi))
 
 
 # --------------------------------------------------------------------------- Jacobi polynomials
@@ -109,8 +48,8 @@ def _jacobi_pair(n: int, alpha: int, beta: int, xh, xl):
     zero = np.zeros_like(xh)
     prev = (one, zero)
     # P_1 = ((ab + 2) x + alpha - beta) / 2
-    th, tl = _dd_mul_d(xh, xl, float(ab + 2))
-    th, tl = _dd_add(th, tl, one * float(alpha - beta), zero)
+    th, tl = dd_mul_d(xh, xl, float(ab + 2))
+    th, tl = dd_add(th, tl, one * float(alpha - beta), zero)
     cur = (th * 0.5, tl * 0.5)
     if n == 0:
         return prev, (zero, zero)
@@ -121,12 +60,12 @@ def _jacobi_pair(n: int, alpha: int, beta: int, xh, xl):
         a0 = float((c - 1) * (alpha * alpha - beta * beta))
         a2 = float(2 * (k + alpha - 1) * (k + beta - 1) * c)
         # (a1 x + a0) P_{k-1} - a2 P_{k-2}, then / lead; every coefficient is an exact integer.
-        th, tl = _dd_mul_d(xh, xl, a1)
-        th, tl = _dd_add(th, tl, one * a0, zero)
-        th, tl = _dd_mul(th, tl, cur[0], cur[1])
-        uh, ul = _dd_mul_d(prev[0], prev[1], a2)
-        th, tl = _dd_add(th, tl, -uh, -ul)
-        th, tl = _dd_div(th, tl, one * lead, zero)
+        th, tl = dd_mul_d(xh, xl, a1)
+        th, tl = dd_add(th, tl, one * a0, zero)
+        th, tl = dd_mul(th, tl, cur[0], cur[1])
+        uh, ul = dd_mul_d(prev[0], prev[1], a2)
+        th, tl = dd_add(th, tl, -uh, -ul)
+        th, tl = dd_div(th, tl, one * lead, zero)
         prev, cur = cur, (th, tl)
     return cur, prev
 
@@ -168,18 +107,18 @@ def _rule(n: int, alpha: int, beta: int) -> tuple[np.ndarray, np.ndarray]:
         step = ph / deriv
         if symmetric and n % 2:
             step[0] = 0.0
-        xh, xl = _dd_add(xh, xl, -step, np.zeros_like(step))
+        xh, xl = dd_add(xh, xl, -step, np.zeros_like(step))
     (_ph, _pl), (qh, ql) = _jacobi_pair(n, alpha, beta, xh, xl)
     # w = 2^(ab+1) G (1 - x^2) ((2n+ab) / (2 (n+alpha)(n+beta) P_{n-1}))^2,
     # G = (n+alpha)! (n+beta)! / ((n+ab)! n!)
     g = Fraction(factorial(n + alpha) * factorial(n + beta), factorial(n + ab) * factorial(n))
     const = 2 ** (ab + 1) * g * Fraction(2 * n + ab, 2 * (n + alpha) * (n + beta)) ** 2
-    ch, cl = _dd_of(const)
-    sh, sl = _dd_mul(xh, xl, xh, xl)
-    sh, sl = _dd_add(np.ones_like(sh), np.zeros_like(sl), -sh, -sl)
-    sh, sl = _dd_mul(sh, sl, ch * np.ones_like(sh), cl * np.ones_like(sl))
-    dh, dl = _dd_mul(qh, ql, qh, ql)
-    wh, wl = _dd_div(sh, sl, dh, dl)
+    ch, cl = dd_of(const)
+    sh, sl = dd_mul(xh, xl, xh, xl)
+    sh, sl = dd_add(np.ones_like(sh), np.zeros_like(sl), -sh, -sl)
+    sh, sl = dd_mul(sh, sl, ch * np.ones_like(sh), cl * np.ones_like(sl))
+    dh, dl = dd_mul(qh, ql, qh, ql)
+    wh, wl = dd_div(sh, sl, dh, dl)
     nodes, weights = xh + xl, wh + wl
     if symmetric:
         tail = 1 if n % 2 else 0

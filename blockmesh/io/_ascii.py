@@ -25,11 +25,12 @@ from typing import BinaryIO
 
 import numpy as np
 
+from ..doubledouble import two_prod
+
 __all__ = ["float_bytes", "int_bytes", "spaced", "write_rows"]
 
 #: Width of a formatted float: sign, 17 digits, point, 'e', exponent sign, 3 exponent digits.
 FLOAT_WIDTH = 24
-_SPLITTER = 134217729.0  # 2**27 + 1, Dekker's split constant
 _FAST_MIN, _FAST_MAX = 1e-5, 1e15
 _POW10 = 10.0 ** np.arange(23)
 
@@ -125,22 +126,9 @@ def int_bytes(values: np.ndarray) -> np.ndarray:
     return words.view(np.uint8)
 
 
-def _two_product(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``a * b == p + err`` exactly (no FMA needed; no overflow for our ranges)."""
-    p = a * b
-    c = _SPLITTER * a
-    ah = c - (c - a)
-    al = a - ah
-    c = _SPLITTER * b
-    bh = c - (c - b)
-    bl = b - bh
-    err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, err
-
-
 def _digits17(x: np.ndarray, k: np.ndarray) -> np.ndarray:
     """``round(|x| * 10**k)`` exactly, as int64 (needs ``|x| * 10**k >= 2**53``)."""
-    p, err = _two_product(np.abs(x), _POW10[k])
+    p, err = two_prod(np.abs(x), _POW10[k])
     return p.astype(np.int64) + np.rint(err).astype(np.int64)
 
 
