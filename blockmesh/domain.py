@@ -21,13 +21,14 @@ from __future__ import annotations
 import difflib
 import numbers
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
+from .checks import readonly
 from .errors import DomainError, DomainFormatError
 from .geometry import interior_angles, signed_area
 from .mesh import Mesh
@@ -44,12 +45,6 @@ from .validate import (
 )
 
 __all__ = ["Domain", "load_domain", "parse_polygon_string"]
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    a = np.array(a)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,7 +86,6 @@ class Domain:
     _neighbour: np.ndarray = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        set_ = object.__setattr__
         vertices = parse_points(self.vertices, "vertex")
         blocks = parse_blocks(self.blocks, vertices.shape[0])
         check_block_shapes(vertices, blocks, repair=False)
@@ -114,14 +108,35 @@ class Domain:
             (region >= 0) & (region < len(self.region_names))
         ):
             raise DomainError("every block needs one region (an index into region_names)")
-        set_(self, "vertices", _readonly(vertices))
-        set_(self, "blocks", _readonly(blocks))
-        set_(self, "boundary_edges", _readonly(boundary))
-        set_(self, "boundary_patch", _readonly(patch))
-        set_(self, "region", _readonly(region))
+        self._store(vertices, blocks, boundary, patch, region, neighbour)
+
+    def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
+        set_ = object.__setattr__
+        set_(self, "vertices", readonly(vertices, np.float64))
+        set_(self, "blocks", readonly(blocks, np.int64))
+        set_(self, "boundary_edges", readonly(boundary, np.int64))
+        set_(self, "boundary_patch", readonly(patch, np.int64))
+        set_(self, "region", readonly(region, np.int64))
         set_(self, "patch_names", tuple(self.patch_names))
         set_(self, "region_names", tuple(self.region_names))
-        set_(self, "_neighbour", _readonly(neighbour))
+        set_(self, "_neighbour", readonly(neighbour, np.int64))
+
+    @classmethod
+    def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
+        """A Domain from data :meth:`from_blocks` has just checked (no second validation)."""
+        domain = object.__new__(cls)
+        for f in fields(cls):
+            if f.name != "_neighbour":
+                object.__setattr__(domain, f.name, values.get(f.name, f.default))
+        domain._store(
+            values["vertices"],
+            values["blocks"],
+            values["boundary_edges"],
+            values["boundary_patch"],
+            values["region"],
+            neighbour,
+        )
+        return domain
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -167,7 +182,8 @@ class Domain:
         owners = _edge_owners(block_ids)
         patch_names, patch = resolve_patches(boundary, patches, owners)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
-        return cls(
+        return cls._trusted(
+            neighbour=neighbour,
             name=_check_text(name, "name"),
             vertices=points,
             blocks=block_ids,
