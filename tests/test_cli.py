@@ -5,15 +5,13 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import CATALOGUE
+from helpers import CATALOGUE, run_cli
 
 from blockmesh.cli import main
 
 
 def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
+    return run_cli(capsys, *argv)
 
 
 def test_catalogue_json_lists_every_domain(capsys):

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 import shapely
-from conftest import SP, TWO_BLOCKS, TWO_VERTICES
+from helpers import SP, TWO_BLOCKS, TWO_VERTICES
 
 import blockmesh
 from blockmesh import (

@@ -50,6 +50,8 @@ def convex_pentagons(draw):
     a, b, c, d = (draw(st.floats(-1.5, 1.5)) for _ in range(4))
     matrix = np.array([[1.0 + abs(a), b * 0.5], [c * 0.5, 0.4 + abs(d)]])
     shift = np.array([draw(st.floats(-1, 1)), draw(st.floats(-1, 1))])
+    if np.linalg.det(matrix) < 0:  # a reflection: keep the corners counter-clockwise
+        unit = unit[::-1]
     return unit @ matrix.T + shift
 
 

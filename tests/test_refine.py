@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import CATALOGUE, SP, TWO_BLOCKS, TWO_VERTICES
+from helpers import CATALOGUE, SP, TWO_BLOCKS, TWO_VERTICES
 from paper_numbering import paper_cells
 
 import blockmesh
