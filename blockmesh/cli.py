@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+def _show_warning(message, *_details: object, **_where: object) -> None:
     print(f"blockmesh: warning: {message}", file=sys.stderr)
 
 

@@ -298,9 +298,11 @@ def _min_angle(layout: _Layout) -> float:
 
 
 def _best_layout(polygon: np.ndarray) -> _Layout:
-    """The chord or star layout with the fewest pieces, then the best score, then (on a tie) the
-    larger smallest angle overall (regular 9-gon: both score 60 degrees; the star's smallest
-    angle is 70, the chords' 60)."""
+    """The chord or star layout with the fewest pieces.
+
+    Then the best score, then (on a tie) the larger smallest angle overall (regular 9-gon: both
+    score 60 degrees; the star's smallest angle is 70, the chords' 60).
+    """
     n = len(polygon)
     pieces = -(-(n - 2) // 3)
     chords = _chord_layout(polygon, pieces)

@@ -296,8 +296,11 @@ class Expression:
                         node.end_col_offset += shift
 
     def _check_depth(self) -> None:
-        """Refuse nesting deeper than MAX_DEPTH. A chain ``a + b - c * d ...`` counts as one
-        level (it is compiled as a loop), so long sums are fine."""
+        """Refuse nesting deeper than MAX_DEPTH.
+
+        A chain ``a + b - c * d ...`` counts as one
+        level (it is compiled as a loop), so long sums are fine.
+        """
         stack = [(self._tree.body, 1)]
         while stack:
             node, depth = stack.pop()
@@ -316,9 +319,9 @@ class Expression:
             return self._constant(node)
         if isinstance(node, ast.Name):
             if node.id == "x":
-                return lambda x, y: x
+                return lambda x, _y: x
             if node.id == "y":
-                return lambda x, y: y
+                return lambda _x, y: y
             if node.id in CONSTANTS:
                 return CONSTANTS[node.id]
             self._fail_node(node, f"unknown name {node.id!r}; the names are x, y, pi, e")
@@ -642,8 +645,11 @@ def _combine(ufunc, *args: _Compiled):
 
 
 def _integer_power(base: Callable, k: int) -> Callable:
-    """``base ** k`` for a whole number ``k``: multiplications for small ``|k|``, else
-    ``copysign(|b| ** k, b)`` (libm's pow is ~10x slower on negative bases)."""
+    """``base ** k`` for a whole number ``k``.
+
+    Multiplications for small ``|k|``, else ``copysign(|b| ** k, b)`` (libm's pow is ~10x slower on
+    negative bases).
+    """
     if k == 0:
         return lambda x, y: np.ones_like(base(x, y))
     if k == 1:

@@ -209,8 +209,11 @@ def _integrand(f: Integrand) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
 
 
 def _mesh_of(target, level: int | None) -> Mesh:
-    """The mesh to integrate over: a Domain refined to ``level`` (default 0), or a Mesh refined
-    from its own level up to ``level`` (a mesh cannot be coarsened)."""
+    """The mesh to integrate over.
+
+    A Domain refined to ``level`` (default 0), or a Mesh refined from its own level up to ``level``
+    (a mesh cannot be coarsened).
+    """
     if level is not None and (
         isinstance(level, bool) or not isinstance(level, int | np.integer) or level < 0
     ):

@@ -161,7 +161,7 @@ def _global_ids(cells: np.ndarray, neighbour: np.ndarray, n_points: int, steps: 
 _PLACE_CHUNK = 8192
 
 
-def _place_level(local: np.ndarray, step, lo: int, hi: int) -> None:
+def _place_level(local: np.ndarray, step, lo: int) -> None:
     """Coordinates of the nodes new at one level, in every block's local numbering.
 
     ``local`` holds one complex128 per local node and block, shape (B, n_L) (a point ``(x, y)`` as
@@ -286,10 +286,10 @@ def _build(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress)
 
         if identity:
             ids = np.arange(n_nodes)[None, :]
-        fixed = block_edge_nodes(ids, neighbour, level)
+        fixed = block_edge_nodes(ids, level)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
-        _place_level(local, template.steps[step - 1], lo, hi)
+        _place_level(local, template.steps[step - 1], lo)
         if smooth:
             level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
             points[ids[:, :hi]] = local[:, :hi]

@@ -27,7 +27,7 @@ from .template import pentagon_template
 __all__ = ["block_edge_nodes", "smooth_interior"]
 
 
-def block_edge_nodes(ids: np.ndarray, neighbour: np.ndarray, level: int) -> np.ndarray:
+def block_edge_nodes(ids: np.ndarray, level: int) -> np.ndarray:
     """Mask over all final nodes: True for the nodes on the edges of the base cells.
 
     ``ids`` are the global ids of every base cell's template nodes, shape (B, n_L).

@@ -437,9 +437,9 @@ def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarr
     polygons = shapely.polygons(vertices[blocks])
     scale = _scale(vertices)
     _check_same_direction(blocks, neighbour)
-    _check_overlaps(blocks, polygons, vertices)
+    _check_overlaps(polygons)
     _check_near_edges(vertices, blocks, scale)
-    _check_connected(blocks, neighbour)
+    _check_connected(neighbour)
 
 
 def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
@@ -458,7 +458,7 @@ def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
     )
 
 
-def _check_overlaps(blocks: np.ndarray, polygons: np.ndarray, vertices: np.ndarray) -> None:
+def _check_overlaps(polygons: np.ndarray) -> None:
     areas = shapely.area(polygons)
     tree = shapely.STRtree(polygons)
     first, second = tree.query(polygons, predicate="intersects")
@@ -522,7 +522,7 @@ def _check_near_edges(vertices: np.ndarray, blocks: np.ndarray, scale: float) ->
     _raise(TopologyError, problems)
 
 
-def _check_connected(blocks: np.ndarray, neighbour: np.ndarray) -> None:
+def _check_connected(neighbour: np.ndarray) -> None:
     count, label = connected_pieces(neighbour)
     if count == 1:
         return

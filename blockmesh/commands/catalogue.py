@@ -9,7 +9,8 @@ from ..domain import load_domain
 from ._common import print_json
 
 
-def register(subparsers) -> None:
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``catalogue`` subcommand and its options to ``subparsers``."""
     parser = subparsers.add_parser(
         "catalogue",
         help="list the catalogue of ready-made domains",
@@ -20,6 +21,7 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``blockmesh catalogue`` with the parsed ``args``; returns the exit code."""
     rows = []
     for name in catalogue_names():
         domain = load_domain(name)

@@ -11,7 +11,8 @@ from ..errors import BlockMeshError
 from ._common import add_domain_arguments, print_json, resolve_domain
 
 
-def register(subparsers) -> None:
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``check`` subcommand and its options to ``subparsers``."""
     parser = subparsers.add_parser(
         "check",
         help="validate a domain and print its conformity certificate",
@@ -26,6 +27,7 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``blockmesh check`` with the parsed ``args``; returns the exit code."""
     name = args.domain or "polygon"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

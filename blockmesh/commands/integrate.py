@@ -18,7 +18,8 @@ _DEFAULT_LEVEL = 2
 _DEFAULT_ORDER = 10
 
 
-def register(subparsers) -> None:
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``integrate`` subcommand and its options to ``subparsers``."""
     parser = subparsers.add_parser(
         "integrate",
         help="integrate f(x, y) over a domain with a composite Gauss rule",
@@ -81,6 +82,7 @@ def _decimal(value: Fraction, digits: int = 22) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``blockmesh integrate`` with the parsed ``args``; returns the exit code."""
     domain = resolve_domain(args)
     exact = exact_integral(domain, args.function) if args.exact else None
     converged = True

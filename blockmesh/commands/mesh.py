@@ -22,7 +22,8 @@ from ..refinement import NUMBERINGS, refine
 from ._common import ProgressBar, add_domain_arguments, check_folders, parse_size, print_json
 
 
-def register(subparsers) -> None:
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``mesh`` subcommand and its options to ``subparsers``."""
     parser = subparsers.add_parser(
         "mesh",
         help="refine domains into all-pentagon meshes; report, draw, export",
@@ -241,6 +242,7 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``blockmesh mesh`` with the parsed ``args``; returns the exit code."""
     options = _options(args)
     if args.polygon is not None:
         if args.domain:

@@ -8,7 +8,8 @@ from ..plot import plot_domain
 from ._common import add_domain_arguments, resolve_domain
 
 
-def register(subparsers) -> None:
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``show`` subcommand and its options to ``subparsers``."""
     parser = subparsers.add_parser(
         "show",
         help="draw a domain's blocks, vertices and patches",
@@ -21,6 +22,7 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``blockmesh show`` with the parsed ``args``; returns the exit code."""
     domain = resolve_domain(args)
     path = plot_domain(domain, args.output)
     print(f"wrote {path} ({domain.name}: {domain.n_blocks} blocks)")

@@ -32,7 +32,8 @@ def _int_list(text: str) -> tuple[int, ...]:
     return tuple(values)
 
 
-def register(subparsers) -> None:
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``tables`` subcommand and its options to ``subparsers``."""
     parser = subparsers.add_parser(
         "tables",
         help="regenerate the paper's Tables 1-11 (both pentagons) with their errors",
@@ -78,6 +79,7 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``blockmesh tables`` with the parsed ``args``; returns the exit code."""
     check_folders(args.csv, args.plot)
     pentagons = tuple(PENTAGONS) if args.pentagon == "both" else (args.pentagon,)
     results = []

@@ -1,4 +1,4 @@
-"""Fast, exact ASCII formatting of numeric tables (for the text formats: Gmsh, OpenFOAM).
+r"""Fast, exact ASCII formatting of numeric tables (for the text formats: Gmsh, OpenFOAM).
 
 Python's ``repr`` costs about 0.6 µs a number, which makes a 1.7 M cell OpenFOAM mesh take many
 seconds to write. Here numbers become fixed-width ``uint8`` digit matrices with whole-array
@@ -43,8 +43,10 @@ def _word(text: str) -> int:
 
 
 def _tables() -> dict[str, np.ndarray]:
-    """uint32 words of the 4-character texts of 0..9999: zero-padded, without leading zeros
-    (right-aligned), and without trailing zeros (left-aligned)."""
+    """uint32 words of the 4-character texts of 0..9999.
+
+    Zero-padded, without leading zeros (right-aligned), and without trailing zeros (left-aligned).
+    """
     codes = np.arange(10_000)
     full = np.empty((10_000, 4), dtype=np.uint8)
     q = codes.copy()

@@ -378,8 +378,10 @@ def _corners(ring: np.ndarray, points: np.ndarray, is_node: np.ndarray | None) -
 def _join_lines(
     lines: np.ndarray, is_corner: np.ndarray, where: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Boundary lines joined across nodes that are not corners (quad5's midpoints), and the
-    index of the first line of each joined one."""
+    """Boundary lines joined across nodes that are not corners (quad5's midpoints).
+
+    Also the index of the first line of each joined one.
+    """
     if lines.size == 0 or np.all(is_corner[lines]):
         return lines, np.arange(lines.shape[0])
     first = np.flatnonzero(is_corner[lines[:, 0]])

@@ -67,8 +67,11 @@ class SplitCells(NamedTuple):
 
 
 class SplitBoundary(NamedTuple):
-    """The boundary lines of a split mesh: ``edges`` (Eb', 2) oriented like the mesh's boundary
-    edges (domain on the left), and the patch index of each."""
+    """The boundary lines of a split mesh.
+
+    ``edges`` (Eb', 2) are oriented like the mesh's boundary
+    edges (domain on the left), and the patch index of each.
+    """
 
     edges: np.ndarray
     patch: np.ndarray
