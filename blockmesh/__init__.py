@@ -12,7 +12,7 @@ Examples
 144
 """
 
-from .domain import Domain, load_domain, parse_polygon_string
+from .domain import Domain
 from .errors import (
     ArgumentError,
     ArgumentTypeError,
@@ -30,6 +30,7 @@ from .errors import (
 from .exact import exact_integral
 from .expr import parse_expression
 from .io import read, write
+from .loading import load_domain, parse_polygon_string
 from .mesh import Mesh, MeshQuality
 from .quadrature import IntegrationResult, integrate, integrate_to_tolerance, quadrature_points
 from .refinement import refine

@@ -18,7 +18,6 @@ Examples
 
 from __future__ import annotations
 
-import difflib
 import numbers
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields
@@ -44,7 +43,7 @@ from .validate import (
     resolve_regions,
 )
 
-__all__ = ["Domain", "load_domain", "parse_polygon_string"]
+__all__ = ["Domain"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,7 +51,7 @@ class Domain:
     """A conforming block mesh of strictly convex pentagons, with patches and regions.
 
     Build one with :meth:`from_polygon`, :meth:`from_blocks`, :meth:`from_toml` or
-    :func:`load_domain`; the constructor checks everything again, so a Domain is always valid.
+    :func:`blockmesh.load_domain`; the constructor checks everything, so a Domain is always valid.
 
     Attributes
     ----------
@@ -433,60 +432,3 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None
-
-
-def parse_polygon_string(text: str) -> np.ndarray:
-    """Parse ``"x1,y1 x2,y2 ..."`` (the ``--polygon`` option) into an (n, 2) array.
-
-    Examples
-    --------
-    >>> parse_polygon_string("0,0 1,0 0,1").tolist()
-    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
-    >>> parse_polygon_string("0,0 1;0")  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    blockmesh.errors.DomainFormatError: --polygon: token 2 '1;0' is not a pair 'x,y' of numbers ...
-    """
-    tokens = text.split()
-    points = []
-    for k, token in enumerate(tokens, start=1):
-        parts = token.split(",")
-        try:
-            if len(parts) != 2:
-                raise ValueError
-            points.append((float(parts[0]), float(parts[1])))
-        except ValueError:
-            raise DomainFormatError(
-                f"--polygon: token {k} {token!r} is not a pair 'x,y' of numbers (write the "
-                'corners as "x1,y1 x2,y2 ...")'
-            ) from None
-    if not points:
-        raise DomainFormatError('--polygon is empty; write the corners as "x1,y1 x2,y2 ..."')
-    return np.array(points, dtype=np.float64)
-
-
-def load_domain(name_or_path: str | Path) -> Domain:
-    """A catalogue domain by name, or a domain file by path.
-
-    Examples
-    --------
-    >>> load_domain("sp").vertices.tolist()
-    [[-1.0, -1.0], [1.0, -1.0], [2.0, 0.0], [0.0, 1.0], [-2.0, 0.0]]
-    """
-    from .catalogue import catalogue_names, catalogue_path
-
-    text = str(name_or_path)
-    path = Path(text)
-    if path.suffix == ".toml" or path.exists() or "/" in text:
-        if not path.exists():
-            raise DomainFormatError(f"{path}: no such file")
-        return Domain.from_toml(path)
-    names = catalogue_names()
-    if text not in names:
-        close = difflib.get_close_matches(text, names, n=3)
-        hint = f" Did you mean {', '.join(close)}?" if close else ""
-        raise DomainFormatError(
-            f"{text!r} is neither a catalogue domain nor a .toml file.{hint} The catalogue has: "
-            f"{', '.join(names)} (see 'blockmesh catalogue')"
-        )
-    return Domain.from_toml(catalogue_path(text))

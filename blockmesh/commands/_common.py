@@ -12,13 +12,15 @@ from typing import Any
 
 import numpy as np
 
-from ..domain import Domain, load_domain, parse_polygon_string
-from ..errors import BlockMeshError, ExportError
+from ..domain import Domain
+from ..errors import BlockMeshError, DomainFormatError, ExportError
+from ..loading import load_domain, parse_polygon_string
 
 __all__ = [
     "ProgressBar",
     "add_domain_arguments",
     "check_folders",
+    "inline_polygon",
     "parse_size",
     "print_json",
     "resolve_domain",
@@ -51,13 +53,22 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
     if args.polygon is not None and domain:
         raise BlockMeshError("give either DOMAIN or --polygon, not both")
     if args.polygon is not None:
-        return Domain.from_polygon(parse_polygon_string(args.polygon), name="polygon")
+        return inline_polygon(args.polygon)
     if not domain:
         raise BlockMeshError(
             'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
             "(see 'blockmesh catalogue')"
         )
     return load_domain(domain)
+
+
+def inline_polygon(text: str) -> Domain:
+    """The domain of ``--polygon TEXT``; parse errors name the option."""
+    try:
+        corners = parse_polygon_string(text)
+    except DomainFormatError as error:
+        raise DomainFormatError(f"--{error}") from None
+    return Domain.from_polygon(corners, name="polygon")
 
 
 def check_folders(*targets: str | None) -> None:

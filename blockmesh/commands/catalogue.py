@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..catalogue import catalogue_names
-from ..domain import load_domain
+from ..loading import load_domain
 from ._common import print_json
 
 

@@ -15,11 +15,19 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any
 
-from ..domain import Domain, load_domain, parse_polygon_string
+from ..domain import Domain
 from ..errors import BlockMeshError
 from ..io import SPLITS, format_for_path
+from ..loading import load_domain
 from ..refinement import NUMBERINGS, refine
-from ._common import ProgressBar, add_domain_arguments, check_folders, parse_size, print_json
+from ._common import (
+    ProgressBar,
+    add_domain_arguments,
+    check_folders,
+    inline_polygon,
+    parse_size,
+    print_json,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -256,10 +264,7 @@ def run(args: argparse.Namespace) -> int:
         domains = _expand(args.domain)
     if len(domains) > 1:
         return _run_batch(domains, options, args)
-    if args.polygon is not None:
-        domain = Domain.from_polygon(parse_polygon_string(args.polygon), name="polygon")
-    else:
-        domain = load_domain(domains[0])
+    domain = inline_polygon(args.polygon) if args.polygon is not None else load_domain(domains[0])
     bar = ProgressBar(f"{domain.name}: refining", enabled=ProgressBar.wanted(args))
     report = _mesh_one(domain, options, args.output, progress=bar)
     if args.json:
