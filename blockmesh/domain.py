@@ -82,7 +82,7 @@ class Domain:
     region_names: tuple[str, ...]
     description: str = ""
     layout: str = "blocks"
-    _neighbour: np.ndarray = field(default=None, repr=False)
+    _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
         vertices = parse_points(self.vertices, "vertex")
