@@ -28,6 +28,8 @@ from typing import Any
 import numpy as np
 
 from .checks import readonly
+from .curve_checks import check_curved_blocks, curved_edges, resolve_curves
+from .curves import Curve
 from .errors import DomainError, DomainFormatError
 from .geometry import interior_angles, signed_area
 from .mesh import Mesh
@@ -70,6 +72,9 @@ class Domain:
     description : str
     layout : str
         How the blocks came about: ``"blocks"`` (given) or the decomposition used.
+    curves : mapping of (a, b) to Curve
+        The curved block edges (read-only view): each curve runs from vertex ``a`` to vertex
+        ``b`` (:mod:`blockmesh.curves`); empty when every edge is straight.
     """
 
     name: str
@@ -82,6 +87,7 @@ class Domain:
     region_names: tuple[str, ...]
     description: str = ""
     layout: str = "blocks"
+    curves: Mapping[tuple[int, int], Curve] = field(default_factory=dict)
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
@@ -107,6 +113,7 @@ class Domain:
             (region >= 0) & (region < len(self.region_names))
         ):
             raise DomainError("every block needs one region (an index into region_names)")
+        object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
         self._store(vertices, blocks, boundary, patch, region, neighbour)
 
     def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
@@ -119,6 +126,7 @@ class Domain:
         set_(self, "patch_names", tuple(self.patch_names))
         set_(self, "region_names", tuple(self.region_names))
         set_(self, "_neighbour", readonly(neighbour, np.int64))
+        set_(self, "curves", MappingProxyType(dict(self.curves)))
 
     @classmethod
     def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
@@ -149,6 +157,7 @@ class Domain:
         name: str = "blocks",
         description: str = "",
         layout: str = "blocks",
+        edges: Mapping[tuple[int, int], Curve] | None = None,
     ) -> Domain:
         """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
 
@@ -161,6 +170,11 @@ class Domain:
             Unlisted boundary edges go to the patch ``"boundary"``.
         regions : mapping of name to a list of block ids, optional
             Unlisted blocks go to the region ``"domain"``.
+        edges : mapping of (a, b) to a curve, optional
+            Curved block edges: the curve (:class:`~blockmesh.curves.Arc`,
+            :class:`~blockmesh.curves.Spline` or :class:`~blockmesh.curves.Polyline`) replaces
+            the straight edge from vertex ``a`` to vertex ``b``. The blocks must stay strictly
+            convex with their curves when refined (:mod:`blockmesh.curve_checks`).
 
         Examples
         --------
@@ -171,6 +185,13 @@ class Domain:
         ... )
         >>> d.patch_names, len(d.patches["boundary"])
         (('inlet', 'boundary'), 7)
+        >>> from blockmesh.curves import Arc
+        >>> curved = Domain.from_blocks(
+        ...     [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2)], [(0, 1, 2, 3, 4)],
+        ...     edges={(0, 1): Arc(through=(1, -0.3))},
+        ... )
+        >>> round(curved.area, 6)  # the pentagon's 4.5 and the circular segment below edge 0
+        4.90711
         """
         points = parse_points(vertices, "vertex")
         block_ids = parse_blocks(blocks, points.shape[0])
@@ -181,6 +202,7 @@ class Domain:
         owners = _edge_owners(block_ids)
         patch_names, patch = resolve_patches(boundary, patches, owners)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
+        curves = _checked_curves(points, block_ids, edges)
         return cls._trusted(
             neighbour=neighbour,
             name=_check_text(name, "name"),
@@ -193,6 +215,7 @@ class Domain:
             region_names=region_names,
             description=_check_text(description, "description"),
             layout=layout,
+            curves=curves,
         )
 
     @classmethod
@@ -294,8 +317,13 @@ class Domain:
         return float(np.sum(self.block_areas()))
 
     def block_areas(self) -> np.ndarray:
-        """Area of each block, shape (B,)."""
-        return signed_area(self.vertices[self.blocks])
+        """Area of each block, shape (B,), bounded by its curved edges where it has any."""
+        areas = signed_area(self.vertices[self.blocks])
+        if self.curves:
+            from .curved_quadrature import area_corrections
+
+            areas = areas + area_corrections(self.blocks, self.n_vertices, self.block_mesh().curves)
+        return areas
 
     def block_angles(self) -> np.ndarray:
         """Interior angles of each block in degrees, shape (B, 5)."""
@@ -345,6 +373,7 @@ class Domain:
             region_names=self.region_names,
             level=0,
             name=self.name,
+            curves=curved_edges(self.curves),
         )
 
     def mesh(self, level: int, **options: Any) -> Mesh:
@@ -367,6 +396,15 @@ def _check_text(value: object, what: str) -> str:
                 f"{position}; use printable text"
             )
     return value
+
+
+def _checked_curves(
+    vertices: np.ndarray, blocks: np.ndarray, edges: Mapping | None
+) -> dict[tuple[int, int], Curve]:
+    """The curves of ``edges`` bound to their vertices, after the blocks are checked with them."""
+    curves = resolve_curves(vertices, blocks, edges)
+    check_curved_blocks(vertices, blocks, curves)
+    return curves
 
 
 def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
@@ -437,6 +475,7 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
             raw.get("regions"),
             name=name,
             description=description,
+            edges=raw.get("edges"),
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .curves import CurvedEdges
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
 from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
 from .topology import boundary_of_cells, boundary_slots, cell_neighbours, unique_edges
@@ -122,6 +123,11 @@ class Mesh:
         Refinement level (0 = the block mesh).
     name : str
         Name of the domain the mesh was made from.
+    curves : CurvedEdges or None
+        The edges that lie on curved block edges, with the curve and the stretch of its parameter
+        each covers (:class:`blockmesh.curves.CurvedEdges`); None when every edge is straight.
+        A Domain with curves passes them to its block mesh and :func:`blockmesh.refine` carries
+        them to every level; writers ignore them (the nodes are already on the curves).
     """
 
     points: np.ndarray
@@ -135,6 +141,7 @@ class Mesh:
     region_names: tuple[str, ...]
     level: int = 0
     name: str = ""
+    curves: CurvedEdges | None = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -181,6 +188,10 @@ class Mesh:
         set_(self, "level", int(self.level))
         if not isinstance(self.name, str):
             raise ArgumentTypeError(f"Mesh name must be a string, got {self.name!r}")
+        if self.curves is not None and not isinstance(self.curves, CurvedEdges):
+            raise ArgumentTypeError(
+                f"Mesh curves must be a blockmesh.curves.CurvedEdges or None, got {self.curves!r}"
+            )
 
     def _check_arrays(self) -> None:
         """Shapes, lengths and index ranges: O(M), always checked."""
@@ -197,6 +208,8 @@ class Mesh:
         points_note = f"there are {n} points"
         _check_range(self.cells, 0, n, "cell", points_note)
         _check_range(self.boundary_edges, 0, n, "boundary edge", points_note)
+        if self.curves is not None:
+            _check_range(self.curves.edges, 0, n, "curved edge", points_note)
         _check_range(self.block_id, 0, np.iinfo(np.int64).max, "block_id of cell", "ids are >= 0")
         _check_range(self.parent, -1, np.iinfo(np.int64).max, "parent of cell", "ids are >= -1")
         _check_range(
@@ -417,6 +430,7 @@ class Mesh:
             points=self.points[order],
             cells=new_id[self.cells],
             boundary_edges=new_id[self.boundary_edges],
+            curves=None if self.curves is None else self.curves.renumbered(new_id),
         )
 
     def with_rcm_numbering(self) -> Mesh:

@@ -17,6 +17,13 @@ OpenFOAM's blockMeshDict::
     [regions]
     solid = [0]            # block ids
 
+    [[edges]]              # curved block edges (explicit blocks only), one table each
+    arc = [3, 4]           # from vertex 3 to vertex 4, through a point or around a centre
+    through = [0.5, 2.2]   # or: center = [x, y]
+    [[edges]]
+    spline = [4, 0]        # or polyline = [a, b]: through the interior points, in order
+    points = [[0.1, 0.6], [-0.1, 0.3]]
+
 Only this module knows the file layout; :mod:`blockmesh.domain` validates the values.
 
 Examples
@@ -47,6 +54,8 @@ ALLOWED_KEYS = {
     "blocks": "pentagons as 5 vertex ids each, [[a, b, c, d, e], ...]",
     "patches": "a table: patch name = list of edges",
     "regions": "a table: region name = list of block ids",
+    "edges": "curved block edges: [[edges]] tables, each arc|spline|polyline = [a, b] with "
+    "through|center|points",
 }
 
 
@@ -104,6 +113,8 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
                 raise DomainFormatError(
                     f"{source}: {what} {name!r} must be a list, got {_toml_type(value)}"
                 )
+    if "edges" in raw:
+        raw["edges"] = _curved_edges(raw["edges"], source)
     has_polygon = "polygon" in raw
     has_blocks = "vertices" in raw or "blocks" in raw
     if has_polygon and has_blocks:
@@ -117,11 +128,49 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
     if has_blocks and ("vertices" not in raw or "blocks" not in raw):
         missing = "vertices" if "vertices" not in raw else "blocks"
         raise DomainFormatError(f"{source}: key {missing!r} is missing (blocks need both)")
+    if has_polygon and "edges" in raw:
+        raise DomainFormatError(
+            f"{source}: 'edges' needs explicit blocks (vertices and blocks), not a polygon"
+        )
     if has_polygon and "regions" in raw:
         raise DomainFormatError(
             f"{source}: 'regions' needs explicit blocks; a polygon is decomposed automatically"
         )
     return raw
+
+
+def _curved_edges(tables: object, source: str) -> dict[tuple[int, int], Any]:
+    """``[[edges]]`` tables as ``{(a, b): curve}`` (unbound curves; the domain checks them)."""
+    from .curves import CURVE_KINDS, curve_from_fields
+
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise DomainFormatError(
+            f"{source}: 'edges' must be [[edges]] tables (one per curved edge), got "
+            f"{_toml_type(tables)}"
+        )
+    out: dict[tuple[int, int], Any] = {}
+    for k, table in enumerate(tables, start=1):
+        kinds = [name for name in CURVE_KINDS if name in table]
+        where = f"{source}: [[edges]] entry {k}"
+        if len(kinds) != 1:
+            raise DomainFormatError(
+                f"{where} needs exactly one of {', '.join(CURVE_KINDS)} = [a, b] (the edge's two "
+                f"vertex ids), got {', '.join(sorted(table)) or 'nothing'}"
+            )
+        kind = kinds[0]
+        pair = table[kind]
+        if (
+            not isinstance(pair, list)
+            or len(pair) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+        ):
+            raise DomainFormatError(f"{where}: {kind} must be [a, b], two vertex ids, got {pair!r}")
+        key = (pair[0], pair[1])
+        if key in out or key[::-1] in out:
+            raise DomainFormatError(f"{where}: edge {list(key)} already has a curve")
+        fields = {name: value for name, value in table.items() if name != kind}
+        out[key] = curve_from_fields(kind, fields, f"{where} ({kind} = {list(key)})")
+    return out
 
 
 def _toml_type(value: object) -> str:
@@ -164,4 +213,15 @@ def dumps_domain(domain) -> str:
     lines.append("[regions]")
     for name, ids in domain.regions.items():
         lines.append(f"{_key(name)} = [{', '.join(str(int(b)) for b in ids)}]")
+    for (a, b), curve in domain.curves.items():
+        lines += ["", "[[edges]]", f"{curve.kind} = [{int(a)}, {int(b)}]"]
+        for name, value in curve.to_fields().items():
+            lines.append(f"{name} = {_toml_value(value)}")
     return "\n".join(lines) + "\n"
+
+
+def _toml_value(value: Any) -> str:
+    """A point ``[x, y]`` or a list of points, with exact floats."""
+    if value and isinstance(value[0], list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    return f"[{', '.join(_float(c) for c in value)}]"
