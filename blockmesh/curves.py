@@ -154,6 +154,38 @@ class Curve:
         """
         return np.zeros(0)
 
+    def pieces(self, t0: np.ndarray, t1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The intervals from ``t0[i]`` to ``t1[i]`` cut at the :meth:`breaks` inside them.
+
+        Returns ``(owner, a, b)``: piece ``j`` runs from parameter ``a[j]`` to ``b[j]`` (in the
+        direction from ``t0`` to ``t1``) and belongs to interval ``owner[j]``; pieces of an
+        interval are consecutive and in order.
+
+        Examples
+        --------
+        >>> line = Polyline(points=[(1, 0)]).with_ends((0, 0), (2, 0))
+        >>> [v.tolist() for v in line.pieces(np.array([0.25, 1.0]), np.array([0.75, 0.75]))]
+        [[0, 0, 1], [0.25, 0.5, 1.0], [0.5, 0.75, 0.75]]
+        """
+        t0 = np.asarray(t0, dtype=np.float64).ravel()
+        t1 = np.asarray(t1, dtype=np.float64).ravel()
+        knots = np.concatenate([[-np.inf], self.breaks(), [np.inf]])
+        lo, hi = np.minimum(t0, t1), np.maximum(t0, t1)
+        first = np.searchsorted(knots, lo, side="right")
+        count = np.maximum(np.searchsorted(knots, hi, side="left") - first, 0) + 1
+        owner = np.repeat(np.arange(t0.size), count)
+        piece = np.arange(owner.size) - np.repeat(np.cumsum(count) - count, count)
+        ahead = (t1 >= t0)[owner]
+        # Count pieces from the interval's t0 end: forwards from lo, backwards from hi.
+        k = np.where(ahead, piece, count[owner] - 1 - piece)
+        cut = knots[np.clip(first[owner] + k - 1, 0, knots.size - 1)]
+        after = knots[np.clip(first[owner] + k, 0, knots.size - 1)]
+        left = np.where(k == 0, lo[owner], cut)
+        right = np.where(k == count[owner] - 1, hi[owner], after)
+        a = np.where(ahead, left, right)
+        b = np.where(ahead, right, left)
+        return owner, a, b
+
     def segment_area(self, t0: Any, t1: Any) -> np.ndarray:
         """Signed area between the curve from ``t0`` to ``t1`` and its chord.
 
@@ -439,8 +471,8 @@ class Spline(_Pieces):
     """The C1 cubic through the interior ``points``, parametrised by chord length.
 
     Each piece between two points is a cubic Hermite polynomial; the tangent at a point is that of
-    the parabola through it and its two neighbours (at the ends, through the first or last three
-    points), so the spline reproduces any parabola exactly.
+    the parabola (in the chord-length parameter) through it and its two neighbours, at the ends
+    through the first or last three points. Collinear points give the straight segment.
 
     Examples
     --------
@@ -513,25 +545,12 @@ class Spline(_Pieces):
 def _piecewise_segment_area(curve: _Pieces, t0: Any, t1: Any, n: int) -> np.ndarray:
     """``segment_area`` by ``n``-point Gauss-Legendre on every piece of every interval."""
     t0, t1 = np.broadcast_arrays(_parameters(t0), _parameters(t1))
-    lo, hi = np.minimum(t0, t1).ravel(), np.maximum(t0, t1).ravel()
-    # Sub-intervals: each interval cut at the knots strictly inside it.
-    knots = curve._knots
-    first = np.searchsorted(knots, lo, side="right")
-    count = np.maximum(np.searchsorted(knots, hi, side="left") - first, 0) + 1
-    owner = np.repeat(np.arange(lo.size), count)
-    piece = np.arange(owner.size) - np.repeat(np.cumsum(count) - count, count)
-    top = knots.size - 1
-    left = np.where(piece == 0, lo[owner], knots[np.clip(first[owner] + piece - 1, 0, top)])
-    right = np.where(
-        piece == count[owner] - 1, hi[owner], knots[np.clip(first[owner] + piece, 0, top)]
-    )
+    owner, left, right = curve.pieces(t0.ravel(), t1.ravel())
     x, w = np.polynomial.legendre.leggauss(n)
     s = left[:, None] + (right - left)[:, None] * (x + 1) / 2
     origin = curve.point(t0.ravel())[owner][:, None, :]
     values = _cross(curve.point(s) - origin, curve.derivative(s)) @ w * (right - left) / 2
-    total = np.bincount(owner, weights=values, minlength=lo.size)
-    sign = np.where(t1.ravel() >= t0.ravel(), 0.5, -0.5)
-    return (sign * total).reshape(t0.shape)
+    return 0.5 * np.bincount(owner, weights=values, minlength=t0.size).reshape(t0.shape)
 
 
 # ---------------------------------------------------------------------------- self-crossings

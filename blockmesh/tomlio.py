@@ -113,8 +113,6 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
                 raise DomainFormatError(
                     f"{source}: {what} {name!r} must be a list, got {_toml_type(value)}"
                 )
-    if "edges" in raw:
-        raw["edges"] = _curved_edges(raw["edges"], source)
     has_polygon = "polygon" in raw
     has_blocks = "vertices" in raw or "blocks" in raw
     if has_polygon and has_blocks:
@@ -136,6 +134,8 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
         raise DomainFormatError(
             f"{source}: 'regions' needs explicit blocks; a polygon is decomposed automatically"
         )
+    if "edges" in raw:
+        raw["edges"] = _curved_edges(raw["edges"], source)
     return raw
 
 
