@@ -83,7 +83,7 @@ def _golub_welsch(n: int, alpha: int, beta: int) -> np.ndarray:
     off = np.sqrt(4 * k * (k + a) * (k + b) * (k + a + b) / (c * c * (c + 1) * (c - 1)))
     if n <= 300:  # dense is fast enough here and spares importing scipy.linalg
         return np.linalg.eigvalsh(np.diag(diag) + np.diag(off, 1) + np.diag(off, -1))
-    from scipy.linalg import eigvalsh_tridiagonal  # type: ignore[import-untyped]
+    from scipy.linalg import eigvalsh_tridiagonal
 
     return eigvalsh_tridiagonal(diag, off)
 

@@ -11,13 +11,14 @@ from typing import Any
 
 from ..errors import BlockMeshWarning, ResourceError
 from ..exact import exact_integral
+from ..mesh import Mesh
 from ..quadrature import (
     RULES,
     IntegrationResult,
     integrate_to_tolerance,
     integrate_with_estimate,
 )
-from ._common import add_domain_arguments, print_json, resolve_domain
+from ._common import add_domain_arguments, print_json, printable, resolve_target
 
 __all__ = ["register", "run"]
 
@@ -50,8 +51,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--level",
         type=int,
         metavar="L",
-        help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}; with --tol: the "
-        "starting level, default 0)",
+        help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
+        "own level; with --tol: the starting level, default 0)",
     )
     parser.add_argument(
         "--order",
@@ -105,12 +106,12 @@ def _difference(value: float, exact: Fraction | float) -> float:
         return float("inf")
 
 
-def _integrate(args: argparse.Namespace, domain: Any) -> IntegrationResult:
+def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
     limits: dict[str, int] = {} if args.max_points is None else {"max_points": args.max_points}
     try:
         if args.tol is not None:
             return integrate_to_tolerance(
-                domain,
+                target,
                 args.function,
                 args.tol,
                 rule=args.rule or "jacobi",
@@ -122,10 +123,10 @@ def _integrate(args: argparse.Namespace, domain: Any) -> IntegrationResult:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BlockMeshWarning)  # printed below, with the options
             return integrate_with_estimate(
-                domain,
+                target,
                 args.function,
                 order=_DEFAULT_ORDER if args.order is None else args.order,
-                level=_DEFAULT_LEVEL if args.level is None else args.level,
+                level=_level(args, target),
                 rule=args.rule or "paper",
                 **limits,
             )
@@ -133,11 +134,18 @@ def _integrate(args: argparse.Namespace, domain: Any) -> IntegrationResult:
         raise ResourceError(f"{error} (--max-points)") from None
 
 
+def _level(args: argparse.Namespace, target: Any) -> int | None:
+    """The level asked for; by default 2 for a domain, and a mesh file's own level."""
+    if args.level is not None:
+        return int(args.level)
+    return None if isinstance(target, Mesh) else _DEFAULT_LEVEL
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh integrate`` with the parsed ``args``; returns the exit code."""
-    domain = resolve_domain(args)
-    exact = exact_integral(domain, args.function) if args.exact else None
-    result = _integrate(args, domain)
+    target = resolve_target(args)
+    exact = exact_integral(target, args.function) if args.exact else None
+    result = _integrate(args, target)
     exact_error = None if exact is None else _difference(result.value, exact)
     if args.json:
         print_json(
@@ -159,7 +167,7 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         cells, order = result.cells, result.order
-        print(f"∫∫ {args.function} dx dy over {domain.name}")
+        print(f"∫∫ {printable(args.function)} dx dy over {printable(target.name)}")
         print(f"  value           {result.value!r}")
         note = "  (converged)" if args.tol is not None and result.converged else ""
         print(f"  error estimate  {result.error_estimate:.3g}{note}")

@@ -88,7 +88,7 @@ def integrate_to_tolerance(
     ResourceError
         When not even the first step fits in ``max_points`` (before any work).
     """
-    found = get_rule(rule)  # type: ignore[arg-type]
+    found = get_rule(rule)
     chunk = check_chunk(chunk)
     tol = check_nonnegative(tol, "tol")
     rtol = check_nonnegative(rtol, "rtol")

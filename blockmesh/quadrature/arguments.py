@@ -26,7 +26,7 @@ def check_integrand(f: object) -> Callable[[np.ndarray, np.ndarray], np.ndarray]
         raise ArgumentTypeError(
             f"f must be a callable f(x, y) or an expression string, not {type(f).__name__}"
         )
-    return f  # type: ignore[return-value]
+    return f
 
 
 def check_nonnegative(value: object, name: str) -> float:

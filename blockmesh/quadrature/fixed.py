@@ -316,7 +316,7 @@ def quadrature_points(
     >>> x.shape, round(float(w.sum()), 14)
     ((12,), 6.0)
     """
-    found = get_rule(rule)  # type: ignore[arg-type]
+    found = get_rule(rule)
     n = order_of(found, order)
     plan = plan_mesh(target, level)
     check_work(plan, found.info(n).points_per_cell, check_max_points(max_points), f"order {n}")

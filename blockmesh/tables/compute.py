@@ -81,7 +81,7 @@ class PaperTable:
 def _whole_numbers(values: object, name: str) -> tuple[int, ...]:
     if isinstance(values, str) or not hasattr(values, "__iter__"):
         raise ArgumentTypeError(f"{name} must be a sequence of whole numbers, got {values!r}")
-    return tuple(whole_number(v, name) for v in values)  # type: ignore[attr-defined]
+    return tuple(whole_number(v, name) for v in values)
 
 
 def compute_table(

@@ -111,3 +111,19 @@ def test_expression_errors_point_at_the_place(capsys):
     assert lines[2].index("^") == lines[1].index("x+") + 2  # after the '+', not under the x
     code, _, err = run_cli(capsys, "integrate", "sp", "-f", "pi/(1e-400 + 0*y)", "--exact")
     assert code == 2 and "too small for a float64" in err
+
+
+def test_a_mesh_file_is_integrated_over_at_its_own_level(tmp_path, capsys):
+    """A refined mesh is a valid thing to integrate over (issue 11): .npz read back, level 2."""
+    import blockmesh
+
+    path = tmp_path / "l.npz"
+    blockmesh.write(blockmesh.load_domain("l-shape").mesh(2), path)
+    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "x*y", "--exact", "--json")
+    payload = json.loads(out)
+    assert code == 0 and payload["level"] == 2 and payload["cells"] == 24 * 36
+    _, reference, _ = run_cli(capsys, "integrate", "l-shape", "-f", "x*y", "--json")
+    assert payload["value"] == json.loads(reference)["value"]
+    assert payload["exact_error"] < 1e-14
+    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "x*y", "--level", "3", "--json")
+    assert code == 0 and json.loads(out)["cells"] == 24 * 216
