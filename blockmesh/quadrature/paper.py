@@ -4,7 +4,8 @@ This is the rule of the seed's FIFTH program
 (``compositeboundaryintegrationconvexpolygonofpentagons_n``): on each sector the radial
 direction has ``n + 1`` Gauss-Legendre points (the paper's ``sss, www``) and the edge ``n`` (its
 ``ss, ww``); the weight of a point is the program's ``ps * wt`` with ``wt = ww * www / 4``. It
-reproduces the paper's Tables 1-11 (:mod:`blockmesh.tables`). Exact to total degree ``2n - 1``
+reproduces the paper's Tables 1-11 (:mod:`blockmesh.tables`; ``docs/mathematics.md`` §6, and §7
+for the paper's misprints). Exact to total degree ``2n - 1``
 (``n`` points along the edge are exact to degree ``2n - 1`` in ``s``, ``n + 1`` radial points with
 the factor ``r`` to degree ``2n`` in ``r``).
 

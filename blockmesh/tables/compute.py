@@ -19,9 +19,10 @@ from ..checks import whole_number
 from ..errors import ArgumentTypeError
 from ..expr import parse_expression
 from ..mesh import Mesh
-from ..quadrature.arguments import check_chunk
+from ..quadrature.arguments import check_chunk, check_max_points
 from ..quadrature.kernel import DEFAULT_CHUNK, cell_sums, total_of
 from ..quadrature.registry import get_rule, order_of
+from ..quadrature.targets import DEFAULT_MAX_POINTS, check_work, plan_mesh
 from ..refinement import refine
 from .data import PENTAGONS, PaperCase, _check_pentagon, paper_case, table_orders
 
@@ -92,6 +93,7 @@ def compute_table(
     orders: tuple[int, ...] | None = None,
     rule: str = "paper",
     chunk: int = DEFAULT_CHUNK,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> PaperTable:
     """Regenerate ``table`` for ``pentagon`` at the given levels and orders.
 
@@ -109,8 +111,16 @@ def compute_table(
         Rows; default :func:`~blockmesh.tables.data.table_orders`.
     rule : str
         Quadrature rule, default the paper's.
-    chunk : int
-        As in :func:`blockmesh.quadrature.integrate`.
+    chunk, max_points : int
+        As in :func:`blockmesh.quadrature.integrate`; every entry is checked against the budget
+        before anything is computed.
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError, UnknownNameError
+        For a table, pentagon, level, order or rule that does not exist.
+    ResourceError
+        When an entry would pass ``max_points``.
 
     Examples
     --------
@@ -124,6 +134,12 @@ def compute_table(
     rows = tuple(order_of(found, n) for n in rows)
     columns = _whole_numbers(levels, "levels")
     chunk = check_chunk(chunk)
+    budget = check_max_points(max_points)
+    base = pentagon_mesh(case.pentagon, 0)
+    for level in columns:
+        plan = plan_mesh(base, level)
+        for n in rows:
+            check_work(plan, found.info(n).points_per_cell, budget, f"order {n}")
     function = parse_expression(case.integrand)
     values = np.empty((len(rows), len(columns)))
     for j, level in enumerate(columns):

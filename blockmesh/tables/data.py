@@ -4,7 +4,8 @@ Everything comes from ``paper_tables.json`` in this package (read once): the pap
 pentagons, the integrand of each table, per (table, pentagon) a high-precision reference value
 (>= 34 significant digits; the exact rational for the polynomials of Tables 3-6) with ``∫|f|``,
 the entries the paper prints (rows 1, 2, 5, 10 of Tables 1-6 and 5, 10, 20 of Tables 7-11 at
-NPMR = 6..6^4; the corrected value of each misprint beside it) and the errata. A
+NPMR = 6..6^4; the corrected value of each misprint beside it) and the errata (also in
+``docs/mathematics.md`` §7). A
 double-precision result is as good as it gets when ``|value - reference| <= TOLERANCE * ∫|f|``.
 
 Examples

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from blockmesh.errors import ResourceError
 from blockmesh.tables import CASES, TOLERANCE, compute_table
 
 LEVEL_CASES = [(case, level) for case in CASES for level in (1, 2, 3, 4)]
@@ -60,3 +61,10 @@ def test_other_rules_converge_to_the_same_references():
     for rule in ("jacobi", "fan"):
         result = compute_table(9, "USP", levels=(2,), orders=(12,), rule=rule)
         assert result.rule == rule and result.scaled_errors[0, 0] <= TOLERANCE
+
+
+def test_huge_requests_are_refused_before_any_work():
+    with pytest.raises(ResourceError, match=r"level 20 with order 10 takes 2\.01e\+18"):
+        compute_table(1, "SP", levels=(1, 20), orders=(10,))
+    with pytest.raises(ResourceError, match="order 999"):
+        compute_table(1, "SP", levels=(4,), orders=(999,))
