@@ -17,9 +17,10 @@ fan     3, fanned from the cell's corner 0 n Gauss-Jacobi(0, 1) x n GL   3 n^2  
 ======  =================================  ============================  ==========  ======
 
 ``"paper"`` is the rule of the seed's FIFTH program and reproduces Tables 1-11
-(:mod:`blockmesh.tables`; the convention is in ``docs/mathematics.md`` §6); here each point is formed as a fixed linear combination of the cell's
-5 corners (one matrix product per chunk of cells), which equals the program's ``xs`` up to
-round-off. Gauss rules are accurate to the last bit (:mod:`blockmesh.gauss`).
+(:mod:`blockmesh.tables`; the convention is in ``docs/mathematics.md`` §6). Here each point is
+formed as a fixed linear combination of the cell's 5 corners (one matrix product per chunk of
+cells), which equals the program's ``xs`` up to round-off. Gauss rules are accurate to the last
+bit (:mod:`blockmesh.gauss`).
 
 The package, one job per module: :mod:`.rule` (the record of a rule: nodes on the unit square
 and a layout of sectors), :mod:`.layouts`, one module per rule (:mod:`.paper`, :mod:`.jacobi`,
