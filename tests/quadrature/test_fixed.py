@@ -103,7 +103,9 @@ def test_the_work_is_refused_before_it_starts():
         ResourceError, match=r"takes 4\.25e\+779 evaluations of f \(1\.42e\+778 cells"
     ):
         integrate(domain, "x", order=2, level=1000)  # refused before refining
-    assert integrate(domain, "x", order=2, max_points=30) == integrate(domain, "x", order=2)
+    with pytest.warns(BlockMeshWarning, match="order 3 not tried"):  # no room for the check:
+        cheap = integrate(domain, "x", order=2, max_points=30)  # the conservative screen speaks
+    assert cheap == integrate(domain, "x", order=2)
     with pytest.raises(ResourceError):
         quadrature_points(domain, order=50, level=4, max_points=10**6)
 
@@ -124,7 +126,7 @@ def test_the_singular_integrand_of_issue_11_is_flagged():
     for level in (2, 4):
         with pytest.warns(BlockMeshWarning, match="the integral is not resolved") as caught:
             value = integrate(domain, "1/(x - 0.3)", order=10, level=level)
-        result = integrate_with_estimate(domain, "1/(x - 0.3)", order=10, level=level)
+            result = integrate_with_estimate(domain, "1/(x - 0.3)", order=10, level=level)
         assert result.value == value and not result.converged
         assert result.error_estimate > 0.1 * abs(value)
         x, _ = domain.mesh(level).points[domain.mesh(level).cells[result.worst_cell]].mean(axis=0)
