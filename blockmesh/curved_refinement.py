@@ -135,8 +135,9 @@ def _smooth_cells(xy: np.ndarray, step: int, fixed: np.ndarray, sweeps: int) -> 
 def curved_slots(cells: np.ndarray, n_points: int, curves: CurvedEdges):
     """For every cell edge (slot), its row in ``curves`` (-1 when straight) and direction.
 
-    Returns ``(row (M, 5), forward (M, 5))``: ``forward`` is True where the cell runs along the
-    edge as the curve's parameter increases.
+    ``cells`` is (M, k), k >= 2 (edge ``i`` from corner ``i`` to ``i + 1``; boundary edges are
+    (E, 2) cells). Returns ``(row (M, k), forward (M, k))``: ``forward`` is True where the cell
+    runs along the edge as the curve's parameter increases.
     """
     cells = np.asarray(cells, dtype=np.int64)
     following = np.roll(cells, -1, axis=1)
