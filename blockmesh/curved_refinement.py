@@ -64,6 +64,24 @@ def _step_ids(step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return parents, children[:, :5, 1].copy(), children[:, 5, :].copy()
 
 
+@cache
+def _edge_midpoints(step: int, level: int) -> tuple[tuple[np.ndarray, ...], ...]:
+    """Per block edge ``e``: the parents with an edge on it, and where its midpoint lies.
+
+    ``(j, k, position)``: parent ``j`` at ``step - 1`` has its edge ``k`` on block edge ``e``,
+    whose midpoint is point ``position`` of ``e`` at ``level`` (an index into ``along``).
+    """
+    _, u_ids, _ = _step_ids(step)
+    template = pentagon_template(level)
+    out = []
+    for e in range(5):
+        j, k = np.nonzero(template.edge_of_node[u_ids] == e)
+        position = np.empty(template.n_nodes, dtype=np.int64)
+        position[template.edge_nodes[e]] = np.arange(template.edge_nodes.shape[1])
+        out.append((j, k, position[u_ids[j, k]]))
+    return tuple(out)
+
+
 def curved_block_levels(
     corners: np.ndarray, along: np.ndarray, curved: np.ndarray, level: int, smooth: int = 0
 ) -> Iterator[tuple[int, np.ndarray]]:
@@ -93,27 +111,24 @@ def curved_block_levels(
     n_cells = corners.shape[0]
     xy = np.empty((n_cells, template.n_nodes, 2))
     xy[:, :5] = corners
-    # On-curve position of every local node on a curved edge (corners excluded).
-    on_curve = np.zeros((n_cells, template.n_nodes), dtype=bool)
-    placed = np.zeros((n_cells, template.n_nodes, 2))
-    inner = template.edge_nodes[:, 1:-1]
-    for k in range(5):
-        rows = np.flatnonzero(curved[:, k])
-        on_curve[rows[:, None], inner[k]] = True
-        placed[rows[:, None], inner[k]] = along[rows, k, 1:-1]
     fixed = template.edge_of_node != -1
     yield 0, xy
     for step in range(1, level + 1):
         parents, u_ids, w_ids = _step_ids(step)
         v = xy[:, parents]  # (B, C, 5, 2)
-        u = (v + np.roll(v, -1, axis=2)) * 0.5
-        on = on_curve[:, u_ids]
-        u[on] = placed[:, u_ids][on]
+        u = v + v[:, :, [1, 2, 3, 4, 0]]
+        u *= 0.5
+        has = np.zeros(u.shape[:2], dtype=bool)  # parents with an edge on a curve
+        for e, (j, k, position) in enumerate(_edge_midpoints(step, level)):
+            rows = np.flatnonzero(curved[:, e])
+            if rows.size:
+                u[rows[:, None], j, k] = along[rows[:, None], e, position]
+                has[rows[:, None], j] = True
         p = (((v[:, :, 0] + v[:, :, 1]) + v[:, :, 2]) + v[:, :, 3]) + v[:, :, 4]
         p /= 5
-        has = on.any(axis=2)
         p[has] = 0.4 * u[has].sum(axis=1) - 0.2 * v[has].sum(axis=1)
-        w = (u + p[:, :, None, :]) * 0.5
+        w = u + p[:, :, None, :]
+        w *= 0.5
         xy[:, u_ids] = u
         xy[:, w_ids] = w
         if smooth:
