@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry import polygon_diameter
 from .fields import Field
 from .polygons import PolygonMesh
 from .projections import Projections
@@ -125,13 +126,18 @@ def error_norms(
         for part in cell_chunks(group.n_cells, per_cell):
             cells = group.cells[part]
             x, y, w = cell_rule(mesh.points, cells, order)
-            basis = proj.values_at(x, y, part)  # (C, Q, n)
             local = nodal[cells]  # (C, n, c)
-            uh = np.einsum("cqn,cnk->cqk", basis, local)
             grad_uh = np.einsum("cdn,cnk->ckd", proj.gradient[part], local)  # (C, c, 2)
+            dx = x - proj.centre[part, 0:1]
+            dy = y - proj.centre[part, 1:2]
+            uh = (
+                local.mean(axis=1)[:, None, :]
+                + dx[..., None] * grad_uh[:, None, :, 0]
+                + dy[..., None] * grad_uh[:, None, :, 1]
+            )  # Π∇u_h at the points, (C, Q, c)
             u = np.stack([field(x, y) for field in exact], axis=-1)  # (C, Q, c)
             if gradient is None:
-                step = GRADIENT_STEP * proj.diameter[part][:, None]
+                step = GRADIENT_STEP * polygon_diameter(mesh.points[cells])[:, None]
                 du = np.stack(
                     [np.stack(_numerical_gradient(f, x, y, step), -1) for f in exact], axis=-2
                 )

@@ -253,16 +253,20 @@ def _cell_matrices(
     basis_mean = np.empty((n_cells, n))
     mass = None if c.is_zero else np.empty((n_cells, n, n))
     reaction_mean = np.empty(n_cells)
+    coefficients = proj.coefficients  # Π∇φ_j = (1, x - c_x, y - c_y) @ coefficients[:, :, j]
     for part in cell_chunks(n_cells, points_per_cell(n, order)):
         x, y, w = cell_rule(pm.points, cells[part], order)
-        basis = proj.values_at(x, y, part)  # (C, Q, n)
-        basis_mean[part] = np.einsum("cq,cqn->cn", w, basis)
+        monomials = proj.monomials(x, y, part)  # (C, Q, 3)
+        local = coefficients[part]
+        basis_mean[part] = np.einsum("ca,can->cn", np.einsum("cq,cqa->ca", w, monomials), local)
         kappa_mean[part] = np.sum(w * kappa(x, y), axis=1) / proj.area[part]
         if not f.is_zero:
-            load[part] = np.einsum("cq,cqn->cn", w * f(x, y), basis)
+            moments = np.einsum("cq,cqa->ca", w * f(x, y), monomials)
+            load[part] = np.einsum("ca,can->cn", moments, local)
         if mass is not None:
             cw = w * c(x, y)
-            mass[part] = np.einsum("cq,cqi,cqj->cij", cw, basis, basis)
+            second = np.matmul(monomials.transpose(0, 2, 1), cw[:, :, None] * monomials)
+            mass[part] = np.matmul(local.transpose(0, 2, 1), np.matmul(second, local))
             reaction_mean[part] = np.sum(cw, axis=1) / proj.area[part]
     if np.any(kappa_mean <= 0):
         bad = int(np.flatnonzero(kappa_mean <= 0)[0])
@@ -271,8 +275,8 @@ def _cell_matrices(
             f"{pm.points[cells[bad]].round(6).tolist()}; the diffusion must be positive"
         )
     residual = proj.residual()
-    consistency = (kappa_mean * proj.area)[:, None, None] * np.einsum(
-        "mdi,mdj->mij", proj.gradient, proj.gradient
+    consistency = (kappa_mean * proj.area)[:, None, None] * np.matmul(
+        proj.gradient.transpose(0, 2, 1), proj.gradient
     )
     stiffness = consistency + stabilize(
         consistency, residual, recipe, coefficient=kappa_mean, scale=scale

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import polygon_diameter, signed_area
+from ..geometry import signed_area
 
 __all__ = ["Projections", "projections"]
 
@@ -49,7 +49,6 @@ class Projections:
     area : ndarray (M,)
     centre : ndarray (M, 2)
         Vertex means c.
-    diameter : ndarray (M,)
     gradient : ndarray (M, 2, n)
         W: ``∇Π∇v = W v`` for the vertex values v.
     matrix : ndarray (M, n, n)
@@ -58,7 +57,6 @@ class Projections:
 
     area: np.ndarray
     centre: np.ndarray
-    diameter: np.ndarray
     gradient: np.ndarray
     matrix: np.ndarray
 
@@ -67,18 +65,23 @@ class Projections:
         """Vertices per cell."""
         return int(self.gradient.shape[2])
 
-    def values_at(self, x: np.ndarray, y: np.ndarray, cells: slice = slice(None)) -> np.ndarray:
-        """``Π∇φ_j`` at points of the cells: shape (C, Q, n) for ``x, y`` of shape (C, Q).
+    def monomials(self, x: np.ndarray, y: np.ndarray, cells: slice = slice(None)) -> np.ndarray:
+        """``(1, x - c_x, y - c_y)`` at points of the cells: shape (C, Q, 3) for ``x, y`` (C, Q).
 
-        ``φ_j`` is the basis function of vertex j; the rows sum to one.
+        ``Π∇φ_j = monomials @ coefficients[:, :, j]``: integrals of a weight times ``Π∇φ_j``
+        need only the weight's moments against these three.
         """
         centre = self.centre[cells]
-        dx = x - centre[:, 0:1]
-        dy = y - centre[:, 1:2]
-        w = self.gradient[cells]
-        return (
-            1.0 / self.size + dx[:, :, None] * w[:, None, 0, :] + dy[:, :, None] * w[:, None, 1, :]
-        )
+        return np.stack([np.ones_like(x), x - centre[:, 0:1], y - centre[:, 1:2]], axis=-1)
+
+    @property
+    def coefficients(self) -> np.ndarray:
+        """``Π∇φ_j`` in the basis ``(1, x - c_x, y - c_y)``: shape (M, 3, n)."""
+        m, _, n = self.gradient.shape
+        out = np.empty((m, 3, n))
+        out[:, 0] = 1.0 / n
+        out[:, 1:] = self.gradient
+        return out
 
     def residual(self) -> np.ndarray:
         """``I - Π∇`` (M, n, n): what the projection misses, the argument of the stabilisation."""
@@ -100,5 +103,5 @@ def projections(points: np.ndarray, cells: np.ndarray) -> Projections:
     gradient[:, 0, :] = (after[..., 1] - before[..., 1]) / (2 * area[:, None])
     gradient[:, 1, :] = (before[..., 0] - after[..., 0]) / (2 * area[:, None])
     offset = corners - centre[:, None, :]
-    matrix = 1.0 / n + np.einsum("mid,mdj->mij", offset, gradient)
-    return Projections(area, centre, polygon_diameter(corners), gradient, matrix)
+    matrix = 1.0 / n + np.matmul(offset, gradient)
+    return Projections(area, centre, gradient, matrix)

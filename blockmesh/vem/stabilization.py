@@ -93,4 +93,4 @@ def stabilize(
         tau = np.einsum("mii->mi", consistency)
         if coefficient is not None:
             tau = np.maximum(tau, coefficient[:, None])
-    return scale * np.einsum("mki,mk,mkj->mij", residual, tau, residual)
+    return scale * np.matmul(residual.transpose(0, 2, 1), tau[:, :, None] * residual)
