@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import BlockMeshError
-from ..refinement import refine
+from ..improve import QUALITY_RULES, refine_with_rule
 from ..vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from ..vem.fields import split_pair
 from ..vem.output import SOLUTION_FORMATS
@@ -82,12 +82,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (0)"
     )
     parser.add_argument(
+        "--quality-rule",
+        choices=QUALITY_RULES,
+        default="paper",
+        help="node placement of the mesh: the paper's (default) or optimized after every level",
+    )
+    parser.add_argument(
         "--order", type=int, default=3, metavar="N", help="quadrature order of the loads (3)"
     )
     parser.add_argument(
         "--stabilization",
         choices=tuple(STABILIZATIONS),
-        help="VEM stabilisation (default: identity for poisson, trace for elasticity)",
+        help="VEM stabilisation (default trace; identity is for poisson only)",
     )
     parser.add_argument(
         "--stabilization-scale", type=float, default=1.0, metavar="A", help="its factor (1)"
@@ -190,7 +196,7 @@ def run(args: argparse.Namespace) -> int:
     neumann = _patch_values(args.neumann, "--neumann", seen)
     domain = resolve_domain(args)
     started = time.perf_counter()
-    mesh = refine(domain, args.level, smooth=args.smooth)
+    mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
     solution = _solve(args, mesh, dirichlet, neumann)
     seconds = time.perf_counter() - started
     info = solution.info
@@ -198,6 +204,7 @@ def run(args: argparse.Namespace) -> int:
         "domain": domain.name,
         "equation": args.equation,
         "level": mesh.level,
+        "quality_rule": args.quality_rule,
         "cells": mesh.n_cells,
         "nodes": mesh.n_points,
         "dof": info.dof,

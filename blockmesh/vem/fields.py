@@ -3,7 +3,8 @@
 Every datum of a problem (a source, a diffusion coefficient, a Dirichlet value, a flux) is given
 as a number, an expression string (parsed by :func:`blockmesh.parse_expression`, never
 ``eval``ed) or a vectorised callable ``f(x, y)``. Vector data (a body force, a traction, a
-displacement) are a pair of those, or one string ``"EXPR_X, EXPR_Y"``; a displacement component
+displacement) are a pair of those, one string ``"EXPR_X, EXPR_Y"``, or a callable returning a
+pair; a displacement component
 may be ``None`` (or the word ``free``) to leave it unconstrained.
 
 Examples
@@ -123,9 +124,24 @@ def _parts(spec: Any, what: str) -> tuple[Any, Any]:
         return split_pair(spec, what)
     if isinstance(spec, tuple | list) and len(spec) == 2:
         return spec[0], spec[1]
+    if callable(spec):  # f(x, y) -> (f_x, f_y): one component each (f is evaluated twice)
+        name = getattr(spec, "__name__", "function")
+        return _component(spec, 0, name), _component(spec, 1, name)
     raise ArgumentTypeError(
-        f"{what} must be a pair (x part, y part) or a string 'EXPR_X, EXPR_Y', got {spec!r}"
+        f"{what} must be a pair (x part, y part), a string 'EXPR_X, EXPR_Y' or a callable "
+        f"returning a pair, got {spec!r}"
     )
+
+
+def _component(function: Callable, k: int, name: str) -> Callable:
+    def part(x: np.ndarray, y: np.ndarray) -> Any:
+        values = function(x, y)
+        if len(values) != 2:
+            raise ExpressionError(f"{name}(x, y) must return a pair of arrays (x part, y part)")
+        return values[k]
+
+    part.__name__ = f"{name}[{k}]"
+    return part
 
 
 def vector_field(spec: Any, what: str) -> tuple[Field, Field]:

@@ -139,7 +139,7 @@ def solve_poisson(
     neumann: Mapping[str, Any] | None = None,
     constraint: str | None = None,
     order: int = 3,
-    stabilization: str = "identity",
+    stabilization: str = "trace",
     stabilization_scale: float = 1.0,
     solver: str = "direct",
     tol: float = 1e-10,
@@ -163,8 +163,8 @@ def solve_poisson(
         (the data must then be compatible, ``∫f + ∫g_N = 0``).
     order : int
         Quadrature order of the load, the mass and the fluxes (exact to degree ``2 order - 1``).
-    stabilization : {"identity", "trace", "diagonal"}
-        See :mod:`blockmesh.vem.stabilization`.
+    stabilization : {"trace", "identity", "diagonal"}
+        See :mod:`blockmesh.vem.stabilization` (default ``"trace"``).
     stabilization_scale : float
         Factor on the stabilisation (default 1).
     solver : {"direct", "amg"}

@@ -97,3 +97,25 @@ def test_bad_input_is_one_clear_line(capsys, tmp_path, arguments, message):
     assert message in stderr
     assert "Traceback" not in stderr
     assert not list(tmp_path.iterdir())
+
+
+def test_quality_rule_optimized_in_mesh_and_solve(capsys):
+    code, stdout, _ = run_cli(capsys, "mesh", "square", "--level", "3", "--json")
+    paper = json.loads(stdout)
+    code, stdout, _ = run_cli(
+        capsys, "mesh", "square", "--level", "3", "--quality-rule", "optimized", "--json"
+    )
+    better = json.loads(stdout)
+    assert code == 0 and better["quality_rule"] == "optimized" and paper["quality_rule"] == "paper"
+    assert better["cells"] == paper["cells"] and better["nodes"] == paper["nodes"]
+    assert better["quality"]["min_angle"] > paper["quality"]["min_angle"]
+    errors = {}
+    for rule in ("paper", "optimized"):
+        code, stdout, _ = run_cli(
+            capsys, "solve", "square", "--level", "3", "--source", SOURCE, *WALLS,
+            "--exact", EXACT, "--quality-rule", rule, "--json",
+        )  # fmt: skip
+        errors[rule] = json.loads(stdout)
+    assert errors["optimized"]["dof"] == errors["paper"]["dof"]
+    assert errors["optimized"]["l2_error"] < errors["paper"]["l2_error"]
+    assert errors["optimized"]["h1_error"] < errors["paper"]["h1_error"]
