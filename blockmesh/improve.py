@@ -371,13 +371,15 @@ def inner_point_rule(
 
 
 def refine_with_rule(
-    target, level: int, *, rule: str = "paper", smooth: int = 0, iterations: int = 100
+    target, level: int, *, rule: str = "paper", smooth: int = 0, iterations: int = 60
 ) -> Mesh:
     """Refine ``level`` times with a node-placement rule (one of :data:`QUALITY_RULES`).
 
     ``"paper"`` is :func:`blockmesh.refine` itself. ``"optimized"`` refines one level at a time
     and runs :func:`optimize_nodes` (``iterations`` L-BFGS steps) after each level, so every level
-    starts from well-shaped cells; the cells, counts, patches and regions are the paper's.
+    starts from well-shaped cells; the cells, counts, patches and regions are the paper's. (On
+    the accuracy benchmark's square, 15, 30, 60 or 100 iterations per level gave the same errors
+    within 2 %, but the worst angle at level 5 was 19.4° with 30 and 28.6° with 60, the default.)
 
     Examples
     --------

@@ -264,6 +264,6 @@ def _print_report(report: dict[str, Any], args: argparse.Namespace) -> None:
             f"{report['l2_relative']:.3e}), H1 {report['h1_error']:.3e} (relative "
             f"{report['h1_relative']:.3e})"
         )
-    for key, label in (("output", "solution"), ("plot", "plot")):
-        if key in report:
-            print(f"  wrote {label} {report[key]}")
+    for given, label in ((args.output, "solution"), (args.plot, "plot")):
+        if given:
+            print(f"  wrote {label} {given}")

@@ -26,6 +26,7 @@ True
 from .assembly import SOLVERS, SolveInfo
 from .elasticity import ElasticitySolution, elasticity_matrix, solve_elasticity
 from .norms import ErrorNorms
+from .output import write_solution
 from .poisson import PoissonSolution, solve_poisson
 from .polygons import CellGroup, PolygonMesh
 from .stabilization import STABILIZATIONS
@@ -42,4 +43,5 @@ __all__ = [
     "elasticity_matrix",
     "solve_elasticity",
     "solve_poisson",
+    "write_solution",
 ]

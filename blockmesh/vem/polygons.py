@@ -137,8 +137,10 @@ class PolygonMesh:
         Raises
         ------
         ArgumentError
-            On a bad index, a clockwise or not star-shaped cell, an edge of three cells, or a
-            patch edge that is not on the boundary (or in two patches).
+            On a bad index, a clockwise or not star-shaped cell, or a patch edge that is not on
+            the boundary (or in two patches).
+        TopologyError
+            On an edge of three cells or a hanging node (cells not meeting edge to edge).
 
         Examples
         --------
@@ -154,21 +156,20 @@ class PolygonMesh:
         if not np.all(np.isfinite(xy)):
             bad = int(np.flatnonzero(~np.all(np.isfinite(xy), axis=1))[0])
             raise ArgumentError(f"point {bad} {xy[bad].tolist()} is not finite")
-        rows = _cell_rows(cells)
         n_points = xy.shape[0]
-        sizes = np.array([len(row) for row in rows], dtype=np.int64)
         groups = []
-        for size in np.unique(sizes):
-            index = np.flatnonzero(sizes == size)
-            group_cells = np.array([rows[i] for i in index], dtype=np.int64).reshape(-1, size)
+        for index, group_cells in _cell_groups(cells):
             _check_cells(xy, group_cells, index, n_points)
-            groups.append(CellGroup(int(size), readonly(group_cells), readonly(index)))
+            size = group_cells.shape[1]
+            groups.append(CellGroup(size, readonly(group_cells), readonly(index)))
+        n_cells = sum(g.n_cells for g in groups)
         edges = _boundary(groups, n_points)
+        _check_edge_to_edge(xy, edges)
         patch, names = _assign_patches(edges, patches or {}, n_points)
         return cls(
             points=readonly(xy),
             groups=tuple(groups),
-            n_cells=len(rows),
+            n_cells=n_cells,
             boundary_edges=readonly(edges),
             boundary_patch=readonly(patch),
             patch_names=names,
@@ -224,13 +225,14 @@ def as_polygon_mesh(mesh: Mesh | PolygonMesh) -> PolygonMesh:
 
 
 # ---------------------------------------------------------------------- checks
-def _cell_rows(cells: Any) -> list[Sequence[int]]:
+def _cell_groups(cells: Any) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(index, cells)`` per vertex count, from an (M, n) array or a sequence of sequences."""
     if isinstance(cells, np.ndarray):
         if cells.dtype.kind not in "iu":
             raise ArgumentTypeError(f"cells must hold integer node ids, got {cells.dtype}")
         if cells.ndim != 2:
             raise ArgumentError(f"cells must have shape (M, n), got {cells.shape}")
-        return list(cells)
+        return [(np.arange(cells.shape[0]), cells.astype(np.int64))]
     try:
         rows: list[Sequence[int]] = [list(row) for row in cells]
     except TypeError:
@@ -238,7 +240,12 @@ def _cell_rows(cells: Any) -> list[Sequence[int]]:
     for k, row in enumerate(rows):
         if not all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in row):
             raise ArgumentTypeError(f"cell {k} {row!r} must hold integer node ids")
-    return rows
+    sizes = np.array([len(row) for row in rows], dtype=np.int64)
+    out = []
+    for size in np.unique(sizes):
+        index = np.flatnonzero(sizes == size)
+        out.append((index, np.array([rows[i] for i in index], dtype=np.int64).reshape(-1, size)))
+    return out
 
 
 def _check_cells(xy: np.ndarray, cells: np.ndarray, index: np.ndarray, n_points: int) -> None:
@@ -287,6 +294,33 @@ def _boundary(groups: list[CellGroup], n_points: int) -> np.ndarray:
         return boundary_of_cells(groups[0].cells, n_points)
     once = np.isin(keys, np.unique(keys)[counts == 1])
     return np.stack([starts[once], stops[once]], axis=1)
+
+
+def _check_edge_to_edge(points: np.ndarray, edges: np.ndarray) -> None:
+    """TopologyError when cells do not meet edge to edge (a hanging node).
+
+    A node in the middle of a neighbour's edge leaves that edge unmatched, so it shows up among
+    the boundary edges with a boundary node inside it. The boundary nodes near every boundary
+    edge are found with shapely's STRtree (O(Eb log Eb)).
+    """
+    import shapely
+
+    if edges.shape[0] == 0:
+        return
+    nodes = np.unique(edges)
+    size = float(np.ptp(points, axis=0).max())
+    tree = shapely.STRtree(shapely.points(points[nodes]))
+    lines = shapely.linestrings(points[edges])
+    edge, hit = tree.query(lines, predicate="dwithin", distance=1e-10 * size)
+    inside = (nodes[hit] != edges[edge, 0]) & (nodes[hit] != edges[edge, 1])
+    if np.any(inside):
+        k = int(np.flatnonzero(inside)[0])
+        node, (a, b) = int(nodes[hit[k]]), edges[edge[k]].tolist()
+        raise TopologyError(
+            f"the cells do not meet edge to edge: node {node} {points[node].tolist()} lies "
+            f"inside the edge ({a}, {b}) of a neighbouring cell (a hanging node); split that "
+            "edge in both cells"
+        )
 
 
 def _assign_patches(

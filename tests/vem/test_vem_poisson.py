@@ -9,7 +9,7 @@ import pytest
 from helpers import CATALOGUE
 
 import blockmesh
-from blockmesh.errors import ArgumentError, SolverError, UnknownNameError
+from blockmesh.errors import ArgumentError, SolverError, TopologyError, UnknownNameError
 from blockmesh.vem import PolygonMesh, solve_poisson
 from blockmesh.vem.rules import cell_rule, fan_rule
 
@@ -289,3 +289,37 @@ def test_pentagon_quadrature_is_blockmesh_quadrature_points():
     per_cell = (w * f(x, y)).sum(axis=1)
     assert np.abs(per_cell - (fw * f(fx, fy)).sum(axis=1)).max() < 1e-14 * np.abs(per_cell).max()
     assert np.abs(np.sort(x, axis=1) - np.sort(fx, axis=1)).max() < 1e-14
+
+
+@pytest.mark.parametrize(
+    ("points", "cells", "error", "match"),
+    [
+        ([(0, 0), (1, 0), (0, 1)], [[0, 2, 1]], ArgumentError, "is clockwise"),
+        ([(0, 0), (1, 0), (0, 1)], [[0, 1, 3]], ArgumentError, "outside 0..2"),
+        ([(0, 0), (1, 0), (0, 1)], [[0, 1, 1]], ArgumentError, "repeats a node"),
+        (  # a dart: not star-shaped from its vertex mean
+            [(0, 0), (4, 0), (0.2, 0.2), (0, 4)],
+            [[0, 1, 2, 3]],
+            ArgumentError,
+            "not star-shaped",
+        ),
+        (  # node 4 halves the edge (1, 2) of the left square: a hanging node
+            [(0, 0), (1, 0), (1, 1), (0, 1), (1, 0.5), (2, 0), (2, 1)],
+            [[0, 1, 2, 3], [1, 5, 4], [4, 5, 6, 2]],
+            TopologyError,
+            r"node 4 \[1.0, 0.5\] lies inside the edge \(1, 2\)",
+        ),
+    ],
+)
+def test_bad_polygon_meshes_are_rejected(points, cells, error, match):
+    with pytest.raises(error, match=match):
+        PolygonMesh.from_cells(points, cells)
+
+
+def test_patch_edges_must_be_boundary_edges():
+    points = [(0, 0), (1, 0), (1, 1), (0, 1), (0.5, 0.5)]
+    cells = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    with pytest.raises(ArgumentError, match=r"patch 'wall': edge \(0, 4\) is not a boundary"):
+        PolygonMesh.from_cells(points, cells, patches={"wall": [(0, 4)]})
+    with pytest.raises(ArgumentError, match="already in another patch"):
+        PolygonMesh.from_cells(points, cells, patches={"a": [(0, 1)], "b": [(1, 0)]})
