@@ -78,7 +78,7 @@ def elasticity_matrix(young: float, poisson: float, plane: str = "stress") -> np
     return factor * np.array([[1 - nu, nu, 0], [nu, 1 - nu, 0], [0, 0, (1 - 2 * nu) / 2]])
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class ElasticitySolution:
     """The virtual element solution of a plane elasticity problem.
 
@@ -95,6 +95,8 @@ class ElasticitySolution:
         The von Mises stress (with ``σ_zz = ν (σ_xx + σ_yy)`` in plane strain).
     info : SolveInfo
     seconds : float
+    material : ndarray (3, 3)
+        The matrix C of :func:`elasticity_matrix`.
     """
 
     mesh: PolygonMesh
@@ -107,6 +109,13 @@ class ElasticitySolution:
     material: np.ndarray
     _projections: tuple[Projections, ...]
     _order: int
+
+    def __repr__(self) -> str:
+        """A one-line summary (the arrays are not printed)."""
+        return (
+            f"ElasticitySolution({self.mesh.n_cells:,} cells, {self.info.dof:,} unknowns, "
+            f"largest von Mises stress {self.von_mises.max():.6g})"
+        )
 
     def errors(self, exact: Any, gradient: Any = None, *, order: int | None = None) -> ErrorNorms:
         """L2, H1 and energy errors against an exact displacement.

@@ -57,7 +57,7 @@ CONSTRAINTS = ("mean",)
 COMPATIBILITY_TOL = 1e-3
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class PoissonSolution:
     """The virtual element solution of a diffusion-reaction problem.
 
@@ -87,6 +87,13 @@ class PoissonSolution:
     _diffusion: Field
     _reaction: Field
     _order: int
+
+    def __repr__(self) -> str:
+        """A one-line summary (the arrays are not printed)."""
+        return (
+            f"PoissonSolution({self.mesh.n_cells:,} cells, {self.info.dof:,} unknowns, "
+            f"u in [{self.values.min():.6g}, {self.values.max():.6g}])"
+        )
 
     def errors(
         self,
