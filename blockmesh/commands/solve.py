@@ -26,6 +26,9 @@ __all__ = ["register", "run"]
 
 EQUATIONS = ("poisson", "elasticity")
 
+#: The level solved on when none is given (as ``blockmesh mesh`` and ``blockmesh integrate``).
+DEFAULT_LEVEL = 2
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``solve`` subcommand and its options to ``subparsers``."""
@@ -40,7 +43,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         '--exact "sin(pi*x)*sin(pi*y)"',
     )
     add_domain_arguments(parser)
-    parser.add_argument("--level", "-l", type=int, required=True, metavar="L", help="levels")
+    parser.add_argument(
+        "--level",
+        "-l",
+        type=int,
+        default=DEFAULT_LEVEL,
+        metavar="L",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+    )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
         "--source",
