@@ -195,6 +195,11 @@ def run(args: argparse.Namespace) -> int:
                 + ("the curved cells (exact geometry)" if args.exact_geometry else
                    "straight cells through the nodes (--exact-geometry: the curved cells)")
             )  # fmt: skip
+        elif args.exact_geometry:
+            print(
+                "  geometry        straight: no curved edges here (a mesh read from a file "
+                "keeps its nodes on the curves but not the curves)"
+            )
         if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):
                 print(f"  exact           {exact}")

@@ -153,3 +153,9 @@ def test_cli_integrates_over_the_exact_geometry(capsys):
     assert code == 0 and report["exact_error"] < 1e-13 * 28.44
     code, out, _ = run_cli(capsys, "integrate", "disc", "-f", "1", "--level", "2")
     assert code == 0 and "--exact-geometry: the curved cells" in out
+
+
+def test_cli_says_when_there_is_no_curve_to_follow(capsys, tmp_path):
+    path = blockmesh.write(blockmesh.load_domain("disc").mesh(1), tmp_path / "disc.npz")
+    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "1", "--exact-geometry")
+    assert code == 0 and "no curved edges here" in out
