@@ -41,7 +41,6 @@ Examples
 
 from __future__ import annotations
 
-import re
 import zlib
 from pathlib import Path
 
@@ -51,6 +50,7 @@ from ..atomic import atomic_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, mesh_from_arrays
+from .names import MATLAB_NAME
 
 __all__ = ["FORMAT", "matlab_name", "read_mat", "write_mat"]
 
@@ -59,39 +59,32 @@ _MX_CELL, _MX_DOUBLE = 1, 6
 
 
 def matlab_name(name: str) -> str:
-    """``name`` made a valid MATLAB identifier (at most 63 characters).
+    """``name`` made a valid MATLAB identifier (at most 63 characters; see :data:`MATLAB_NAME`).
 
     Examples
     --------
     >>> matlab_name("outer wall"), matlab_name("2nd"), matlab_name("inlet")
     ('outer_wall', 'p_2nd', 'inlet')
     """
-    clean = re.sub(r"\W", "_", name, flags=re.ASCII)
-    if not clean or not clean[0].isalpha():
-        clean = "p_" + clean
-    return clean[:63]
+    return MATLAB_NAME.clean(name)
 
 
-def _struct_names(names: tuple[str, ...]) -> list[str]:
-    out: list[str] = []
-    for name in names:
-        base = candidate = matlab_name(name)
-        k = 1
-        while candidate in out:
-            k += 1
-            candidate = f"{base[:58]}_{k}"
-        out.append(candidate)
-    return out
+def _record(k: int) -> np.dtype:
+    """One element of the cell array: tag, flags, dims (1, k), empty name, real part (k doubles)."""
+    return np.dtype([("head", "<u4", (14,)), ("data", "<f8", (k,))])
+
+
+def _record_head(k: int) -> list[int]:
+    return [_MI_MATRIX, 48 + 8 * k, _MI_UINT32, 8, _MX_DOUBLE, 0,
+            _MI_INT32, 8, 1, k, _MI_INT8, 0, _MI_DOUBLE, 8 * k]  # fmt: skip
 
 
 def _cell_array_bytes(name: str, rows: np.ndarray) -> bytes:
     """A MAT v5 ``miMATRIX`` element: an M x 1 cell array of 1 x k double rows. O(M k)."""
     m, k = rows.shape
     # each cell: tag, flags, dims (1, k), empty name, real part (k doubles)
-    record = np.dtype([("head", "<u4", (14,)), ("data", "<f8", (k,))])
-    cells = np.empty(m, dtype=record)
-    cells["head"] = [_MI_MATRIX, 48 + 8 * k, _MI_UINT32, 8, _MX_DOUBLE, 0,
-                     _MI_INT32, 8, 1, k, _MI_INT8, 0, _MI_DOUBLE, 8 * k]  # fmt: skip
+    cells = np.empty(m, dtype=_record(k))
+    cells["head"] = _record_head(k)
     cells["data"] = rows
     body = cells.tobytes()
     raw = name.encode("ascii")
@@ -111,7 +104,7 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
     """Write ``mesh`` to ``path`` (atomically) as a MATLAB v5 file; returns the path. O(N + M)."""
     import scipy.io
 
-    fields = _struct_names(mesh.patch_names)
+    fields = MATLAB_NAME.unique(mesh.patch_names)
     nodes, edges = {}, {}
     for k, field in enumerate(fields):
         e = mesh.boundary_edges[mesh.boundary_patch == k] + 1.0
@@ -141,6 +134,70 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
     return Path(path).absolute()
 
 
+#: The variables :func:`write_mat` writes.
+_VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "Region", "Parent",
+              "PatchNames", "RegionNames", "Level", "Name")  # fmt: skip
+
+
+def _element_rows(path: Path) -> np.ndarray | None:
+    """``Element`` as an (M, 5) float array when it has the layout :func:`write_mat` writes.
+
+    The variables are scanned by their tags (the big ones are skipped, not read); the cell
+    array of M identical records is then viewed as one numpy array, O(M). None for any other
+    layout (e.g. saved by MATLAB), which :func:`scipy.io.loadmat` then reads.
+    """
+    with open(path, "rb") as f:
+        header = f.read(128)
+        if len(header) < 128 or header[126:128] != b"IM":
+            return None  # not little-endian v5
+        while True:
+            tag = f.read(8)
+            if len(tag) < 8:
+                return None
+            kind, size = (int(v) for v in np.frombuffer(tag, dtype="<u4"))
+            start = f.tell()
+            if kind == _MI_COMPRESSED:
+                body = zlib.decompressobj().decompress(f.read(size))
+                kind, size = (int(v) for v in np.frombuffer(body[:8], dtype="<u4"))
+                rows = _cell_rows(body[8 : 8 + size], kind)
+            elif kind == _MI_MATRIX and size > 48:
+                head = f.read(48)
+                rows = None
+                if _name(head) == b"Element":
+                    f.seek(start)
+                    rows = _cell_rows(f.read(size), kind)
+            else:
+                rows = None
+            if rows is not None:
+                return rows
+            f.seek(start + size + (-size % 8))
+
+
+def _name(head: bytes) -> bytes | None:
+    """The variable name in the first 48 bytes of a miMATRIX body (None if unusual)."""
+    words = np.frombuffer(head[:40], dtype="<u4")
+    if words[0] != _MI_UINT32 or words[4] != _MI_INT32 or words[5] != 8 or words[8] != _MI_INT8:
+        return None
+    length = int(words[9])
+    return head[40 : 40 + length] if length <= 8 else None
+
+
+def _cell_rows(body: bytes, kind: int) -> np.ndarray | None:
+    if kind != _MI_MATRIX or len(body) < 48 or _name(body[:48]) != b"Element":
+        return None
+    flags = np.frombuffer(body[:40], dtype="<u4")
+    m, cols = int(flags[6]), int(flags[7])
+    if (int(flags[2]) & 0xFF) != _MX_CELL or cols != 1:
+        return None
+    record = _record(5)
+    if len(body) != 48 + m * record.itemsize:
+        return None
+    cells = np.frombuffer(body, dtype=record, count=m, offset=48)
+    if m and not np.all(cells["head"] == np.array(_record_head(5), dtype="<u4")):
+        return None
+    return cells["data"]
+
+
 def _strings(value: np.ndarray) -> list[str]:
     return [str(np.asarray(v).ravel()[0]) if np.asarray(v).size else "" for v in value.ravel()]
 
@@ -155,9 +212,15 @@ def read_mat(path: Path) -> Mesh:
 
     where = str(path)
     try:
-        data = scipy.io.loadmat(path, squeeze_me=False)
+        rows = _element_rows(Path(path))
+        wanted = None if rows is None else [v for v in _VARIABLES if v != "Element"]
+        data = scipy.io.loadmat(path, squeeze_me=False, variable_names=wanted)
+    except ExportError:
+        raise
     except Exception as exc:  # scipy raises several kinds for broken files
         raise ExportError(f"cannot read {where} as a MATLAB file: {exc}") from None
+    if rows is not None:
+        data["Element"] = rows
     if "Node" not in data or "Element" not in data:
         raise ExportError(f"{where} has no Node and Element variables (PolyMesher layout)")
     element = data["Element"]

@@ -1,4 +1,6 @@
-r"""Fast, exact ASCII formatting of numeric tables (for the text formats: Gmsh, OpenFOAM).
+r"""Numbers as ASCII text, fast and exact both ways (for the text formats: Gmsh, OpenFOAM).
+
+Writing: :func:`write_rows` prints tables of numbers; reading: :func:`parse_numbers` parses them.
 
 Python's ``repr`` costs about 0.6 µs a number, which makes a 1.7 M cell OpenFOAM mesh take many
 seconds to write. Here numbers become fixed-width ``uint8`` digit matrices with whole-array
@@ -20,14 +22,16 @@ b'1 5e-1\\n20 -3.3333333333333331e-1\\n'
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
-from typing import BinaryIO
+from typing import BinaryIO, Protocol
 
 import numpy as np
 
 from ..doubledouble import two_prod
+from ..errors import ExportError
 
-__all__ = ["float_bytes", "int_bytes", "spaced", "write_rows"]
+__all__ = ["TextReader", "float_bytes", "int_bytes", "parse_numbers", "write_rows"]
 
 #: Width of a formatted float: sign, 17 digits, point, 'e', exponent sign, 3 exponent digits.
 FLOAT_WIDTH = 24
@@ -191,24 +195,6 @@ def float_bytes(values: np.ndarray) -> np.ndarray:
     return out
 
 
-def spaced(table: np.ndarray, sep: bytes = b" ") -> list[Part]:
-    """Columns of a 2-D array interleaved with a separator, as parts for :func:`write_rows`.
-
-    (A 2-D integer array given to :func:`write_rows` directly is faster: single spaces.)
-
-    Examples
-    --------
-    >>> len(spaced(np.zeros((4, 3))))
-    5
-    """
-    parts: list[Part] = []
-    for j in range(table.shape[1]):
-        if j:
-            parts.append(sep)
-        parts.append(table[:, j])
-    return parts
-
-
 def _as_matrix(part: np.ndarray) -> np.ndarray:
     if part.dtype == np.uint8 and part.ndim == 2:
         return part  # already formatted
@@ -249,3 +235,184 @@ def write_rows(f: BinaryIO, parts: Sequence[Part], *, chunk: int = 1 << 16) -> N
         ]
         table = np.concatenate(mats, axis=1)
         f.write(table.tobytes().translate(None, b"\0"))
+
+
+def parse_numbers(text: bytes, dtype: type, where: str) -> np.ndarray:
+    r"""The whitespace-separated numbers of ``text`` as a 1-D array of ``dtype``.
+
+    Integers parse at about 300 MB/s, floats (shortest round-trip or 17-digit text) exactly.
+    Raises :class:`ExportError` naming ``where`` when a token is not a number of that type.
+
+    Examples
+    --------
+    >>> parse_numbers(b"1 -2\n 30", np.int64, "f").tolist()
+    [1, -2, 30]
+    >>> parse_numbers(b"1 2.5", np.int64, "the $Elements section of m.msh")
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ExportError: the $Elements section of m.msh: malformed numbers ...
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            return np.fromstring(text, dtype=dtype, sep=" ")
+        except (DeprecationWarning, ValueError) as exc:
+            kind = "integers" if np.issubdtype(dtype, np.integer) else "numbers"
+            raise ExportError(f"{where}: malformed numbers (expected {kind}: {exc})") from None
+
+
+class _Readable(Protocol):
+    def read(self, size: int = -1, /) -> bytes: ...
+
+
+class TextReader:
+    r"""Lines and tables of numbers from a binary file, read in chunks of bounded size.
+
+    For the text formats' readers: a section header is read with :meth:`line`, a block of ``n``
+    lines of numbers with :meth:`table`, which parses them chunk by chunk into one array, so the
+    file is never held in memory whole. O(bytes read); memory O(chunk + the table).
+
+    Examples
+    --------
+    >>> import io
+    >>> r = TextReader(io.BytesIO(b"$Nodes\n2\n1 0.5\n2 1.5\n$EndNodes\n"), "f", chunk=4)
+    >>> r.line(), r.line()
+    (b'$Nodes', b'2')
+    >>> r.table(2, 2, np.float64).tolist(), r.line()
+    ([[1.0, 0.5], [2.0, 1.5]], b'$EndNodes')
+    """
+
+    def __init__(self, file: _Readable, where: str, *, chunk: int = 1 << 24) -> None:
+        self.file = file
+        self.where = where
+        self.chunk = chunk
+        self.line_number = 0
+        self._buf = b""
+        self._pos = 0
+
+    def _more(self) -> bool:
+        """Append the next chunk of the file to the buffer; False at the end of the file."""
+        data = self.file.read(self.chunk)
+        if not data:
+            return False
+        self._buf = self._buf[self._pos :] + data
+        self._pos = 0
+        return True
+
+    @property
+    def at_end(self) -> bool:
+        """Whether every byte of the file has been read."""
+        return self._pos >= len(self._buf) and not self._more()
+
+    def line(self) -> bytes:
+        """The next line, without its end; ``b""`` at the end of the file (see :attr:`at_end`)."""
+        while True:
+            end = self._buf.find(b"\n", self._pos)
+            if end >= 0:
+                text = self._buf[self._pos : end]
+                self._pos = end + 1
+                self.line_number += 1
+                return text.rstrip(b"\r")
+            if not self._more():
+                text = self._buf[self._pos :]
+                self._pos = len(self._buf)
+                if text:
+                    self.line_number += 1
+                return text
+
+    def rest(self) -> bytes:
+        """Everything not read yet (for small files)."""
+        while self._more():
+            pass
+        text, self._pos = self._buf[self._pos :], len(self._buf)
+        return text
+
+    def lines_until(self, end: bytes) -> list[bytes]:
+        """The lines up to the line ``end`` (which is consumed); ExportError if it never comes."""
+        out: list[bytes] = []
+        start = self.line_number
+        while True:
+            text = self.line()
+            if text.strip() == end:
+                return out
+            if not text and self.at_end:
+                raise ExportError(f"{self.where}: no {end.decode()} after line {start}")
+            out.append(text)
+
+    def _take(self, n_lines: int) -> bytes:
+        """Up to ``n_lines`` whole lines from the buffer (at least one unless at the end)."""
+        guess = 64
+        while True:
+            stop = min(len(self._buf), self._pos + guess * n_lines)
+            window = np.frombuffer(
+                self._buf, dtype=np.uint8, count=stop - self._pos, offset=self._pos
+            )
+            ends = np.flatnonzero(window == 10)
+            if ends.size >= n_lines or stop == len(self._buf):
+                if ends.size == 0:
+                    if self._more():
+                        continue
+                    text, self._pos = self._buf[self._pos :], len(self._buf)
+                    return text
+                k = min(n_lines, ends.size)
+                end = self._pos + int(ends[k - 1]) + 1
+                text, self._pos = self._buf[self._pos : end], end
+                return text
+            guess *= 4
+
+    def table(
+        self,
+        rows: int,
+        cols: int,
+        dtype: type,
+        out_dtype: type | None = None,
+        *,
+        blank: bytes = b"",
+    ) -> np.ndarray:
+        """The next ``rows`` lines of ``cols`` numbers each, as a ``(rows, cols)`` array.
+
+        Parsed as ``dtype`` and stored as ``out_dtype`` (default ``dtype``), e.g. int64 values
+        kept as int32; the characters in ``blank`` are read as spaces (``b"()"`` for OpenFOAM's
+        ``(x y z)`` and ``4(a b c d)``). Raises :class:`ExportError` naming the lines when they do
+        not hold ``cols`` numbers each.
+        """
+        spaces = bytes.maketrans(blank, b" " * len(blank)) if blank else None
+        out: np.ndarray = np.empty((rows, cols), dtype=out_dtype or dtype)
+        done = 0
+        first = self.line_number + 1
+        while done < rows:
+            text = self._take(rows - done)
+            if not text:
+                raise ExportError(
+                    f"{self.where}: the file ends at line {self.line_number}, inside a table of "
+                    f"{rows} lines that starts at line {first}"
+                )
+            parsed = text.translate(spaces) if spaces else text
+            values = parse_numbers(
+                parsed, dtype, f"{self.where}, lines {first}..{first + rows - 1}"
+            )
+            k = text.count(b"\n") + (not text.endswith(b"\n"))
+            if values.size != k * cols:
+                raise ExportError(
+                    f"{self.where}, lines {self.line_number + 1}..{self.line_number + k}: "
+                    f"expected {cols} numbers on each line, found {values.size} on {k} lines"
+                )
+            out[done : done + k] = values.reshape(k, cols)
+            done += k
+            self.line_number += k
+            if self._pos >= len(self._buf):
+                self._more()
+        return out
+
+    def skip(self, n_lines: int) -> None:
+        """Skip the next ``n_lines`` lines without parsing them."""
+        left = n_lines
+        while left:
+            text = self._take(left)
+            if not text:
+                raise ExportError(f"{self.where}: the file ends at line {self.line_number}")
+            k = text.count(b"\n")
+            left -= k
+            self.line_number += k
+            if self._pos >= len(self._buf):
+                self._more()
