@@ -93,8 +93,9 @@ def export_error(error: OSError, target: Path) -> ExportError:
     >>> print(export_error(OSError(errno.ENOSPC, "No space left on device"), Path("/d/m.vtu")))
     cannot write /d/m.vtu: No space left on device (ENOSPC); free some space or write elsewhere
     """
-    code = errno.errorcode.get(error.errno or 0)
-    reason = os.strerror(error.errno) if code else (error.strerror or str(error))
+    number = error.errno or 0
+    code = errno.errorcode.get(number)
+    reason = os.strerror(number) if code else (error.strerror or str(error))
     reason = reason or type(error).__name__
     text = f"cannot write {target}: {reason}"
     if code:

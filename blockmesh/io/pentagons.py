@@ -22,7 +22,7 @@ Examples
 >>> s = split_cells(Mesh.from_cells(sp, [[0, 1, 2, 3, 4]]), "quad5")
 >>> merge_elements(s.cells, s.parent, s.points, where="x", split="quad5").cells.tolist()
 [[0, 1, 2, 3, 4]]
->>> merge_elements(s.cells, s.parent, s.points, where="x", corner_nodes=5).cells.tolist()  # outlines
+>>> merge_elements(s.cells, s.parent, s.points, where="x", corner_nodes=5).cells.tolist()
 [[0, 1, 2, 3, 4]]
 """
 
