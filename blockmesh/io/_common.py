@@ -193,8 +193,13 @@ def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:
 
 
 def _read_only(arr: np.ndarray) -> np.ndarray:
-    """``arr`` itself, made read-only: the Mesh takes it over without copying."""
-    arr = np.ascontiguousarray(arr)
+    """``arr`` made read-only: the Mesh takes it over without copying.
+
+    Copied when it is a view of a larger buffer (which it would otherwise keep alive).
+    """
+    base = arr.base
+    if not arr.flags.c_contiguous or (base is not None and getattr(base, "nbytes", 0) > arr.nbytes):
+        arr = np.array(arr, order="C")
     arr.setflags(write=False)
     return arr
 

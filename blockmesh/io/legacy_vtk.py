@@ -40,8 +40,8 @@ import numpy as np
 from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
-from ._common import Format, decode_metadata
-from .vtu import field_data, mesh_from_meshio, meshio_mesh
+from ._common import Format, decode_metadata, mesh_from_arrays
+from .vtu import field_data, meshio_arrays, meshio_mesh
 
 __all__ = ["FORMAT", "decode_name", "encode_name", "read_vtk", "write_vtk"]
 
@@ -145,7 +145,9 @@ def read_vtk(path: Path) -> Mesh:
     raw = fields.get("blockmesh")
     meta = decode_metadata(None if raw is None else raw.astype(np.uint8), where)
     vm.field_data = {**vm.field_data, **fields}
-    return mesh_from_meshio(vm, meta, where)
+    arrays = meshio_arrays(vm, meta, where)
+    del vm  # meshio's copies are freed before the Mesh is built
+    return mesh_from_arrays(where=where, **arrays)
 
 
 FORMAT = Format(

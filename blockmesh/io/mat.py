@@ -42,7 +42,9 @@ Examples
 from __future__ import annotations
 
 import zlib
+from collections.abc import Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
@@ -139,12 +141,49 @@ _VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "R
               "PatchNames", "RegionNames", "Level", "Name")  # fmt: skip
 
 
-def _element_rows(path: Path) -> np.ndarray | None:
-    """``Element`` as an (M, 5) float array when it has the layout :func:`write_mat` writes.
+def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> Iterator[bytes]:
+    """The ``size`` bytes of a data element from ``f``, decompressed if need be, in pieces."""
+    unpack = zlib.decompressobj() if compressed else None
+    left = size
+    while left:
+        piece = f.read(min(step, left))
+        if not piece:
+            return
+        left -= len(piece)
+        if unpack is None:
+            yield piece
+        else:
+            while piece:
+                yield unpack.decompress(piece, step)
+                piece = unpack.unconsumed_tail
+    if unpack is not None:
+        yield unpack.flush()
 
-    The variables are scanned by their tags (the big ones are skipped, not read); the cell
-    array of M identical records is then viewed as one numpy array, O(M). None for any other
-    layout (e.g. saved by MATLAB), which :func:`scipy.io.loadmat` then reads.
+
+class _Bytes:
+    """Exactly ``n`` bytes at a time from a stream of pieces."""
+
+    def __init__(self, pieces: Iterator[bytes]) -> None:
+        self.pieces, self.buf = pieces, bytearray()
+
+    def take(self, n: int) -> bytes | None:
+        while len(self.buf) < n:
+            piece = next(self.pieces, None)
+            if piece is None:
+                return None
+            self.buf += piece
+        out = bytes(self.buf[:n])
+        del self.buf[:n]
+        return out
+
+
+def _element_cells(path: Path) -> np.ndarray | None:
+    """``Element`` as (M, 5) 0-based node ids when it has the layout :func:`write_mat` writes.
+
+    The variables are scanned by their tags (the others are skipped, not read); the records of
+    the cell array are then read in chunks straight into the result, O(M) time and no more
+    memory than the result. None for any other layout (e.g. saved by MATLAB), which
+    :func:`scipy.io.loadmat` then reads.
     """
     with open(path, "rb") as f:
         header = f.read(128)
@@ -156,20 +195,14 @@ def _element_rows(path: Path) -> np.ndarray | None:
                 return None
             kind, size = (int(v) for v in np.frombuffer(tag, dtype="<u4"))
             start = f.tell()
-            if kind == _MI_COMPRESSED:
-                body = zlib.decompressobj().decompress(f.read(size))
-                kind, size = (int(v) for v in np.frombuffer(body[:8], dtype="<u4"))
-                rows = _cell_rows(body[8 : 8 + size], kind)
-            elif kind == _MI_MATRIX and size > 48:
-                head = f.read(48)
-                rows = None
-                if _name(head) == b"Element":
-                    f.seek(start)
-                    rows = _cell_rows(f.read(size), kind)
-            else:
-                rows = None
-            if rows is not None:
-                return rows
+            if kind in (_MI_COMPRESSED, _MI_MATRIX):
+                stream = _Bytes(_chunks(f, size, kind == _MI_COMPRESSED))
+                if kind == _MI_COMPRESSED:
+                    inner = stream.take(8)
+                    kind = int(np.frombuffer(inner, dtype="<u4")[0]) if inner else 0
+                head = stream.take(48) if kind == _MI_MATRIX else None
+                if head is not None and _name(head) == b"Element":
+                    return _records(stream, head)
             f.seek(start + size + (-size % 8))
 
 
@@ -182,24 +215,51 @@ def _name(head: bytes) -> bytes | None:
     return head[40 : 40 + length] if length <= 8 else None
 
 
-def _cell_rows(body: bytes, kind: int) -> np.ndarray | None:
-    if kind != _MI_MATRIX or len(body) < 48 or _name(body[:48]) != b"Element":
-        return None
-    flags = np.frombuffer(body[:40], dtype="<u4")
+def _records(stream: _Bytes, head: bytes, chunk: int = 1 << 16) -> np.ndarray | None:
+    """The cells of a cell array of M records of 1 x 5 doubles (None if it is not that)."""
+    flags = np.frombuffer(head[:40], dtype="<u4")
     m, cols = int(flags[6]), int(flags[7])
     if (int(flags[2]) & 0xFF) != _MX_CELL or cols != 1:
         return None
-    record = _record(5)
-    if len(body) != 48 + m * record.itemsize:
-        return None
-    cells = np.frombuffer(body, dtype=record, count=m, offset=48)
-    if m and not np.all(cells["head"] == np.array(_record_head(5), dtype="<u4")):
-        return None
-    return cells["data"]
+    record, expected = _record(5), np.array(_record_head(5), dtype="<u4")
+    cells = np.empty((m, 5), dtype=np.int64)
+    for at in range(0, m, chunk):
+        n = min(chunk, m - at)
+        raw = stream.take(n * record.itemsize)
+        if raw is None:
+            return None
+        part = np.frombuffer(raw, dtype=record)
+        rows = part["data"]
+        if not np.all(part["head"] == expected) or not np.all(rows == np.floor(rows)):
+            return None
+        cells[at : at + n] = rows
+    cells -= 1
+    return cells
 
 
 def _strings(value: np.ndarray) -> list[str]:
     return [str(np.asarray(v).ravel()[0]) if np.asarray(v).size else "" for v in value.ravel()]
+
+
+def _cells(element: np.ndarray, where: str) -> np.ndarray:
+    """0-based (M, 5) node ids from ``Element`` as scipy read it (a cell array or a matrix)."""
+    if element.dtype == object:
+        try:
+            rows = np.vstack(list(element.ravel())).astype(np.float64) if element.size else element
+        except ValueError:
+            rows = np.empty((0, 0))
+        if element.size and rows.shape != (element.size, 5):
+            raise ExportError(
+                f"{where}: some elements are not rows of 5 node ids; blockmesh reads pentagons"
+            )
+        rows = np.asarray(rows, dtype=np.float64).reshape(-1, 5)
+    else:
+        rows = np.asarray(element, dtype=np.float64).reshape(-1, 5)
+    if not np.all(np.isfinite(rows)) or np.any(rows != np.floor(rows)):
+        raise ExportError(f"{where}: Element holds node ids that are not whole numbers")
+    cells = rows.astype(np.int64)
+    cells -= 1
+    return cells
 
 
 def read_mat(path: Path) -> Mesh:
@@ -212,31 +272,17 @@ def read_mat(path: Path) -> Mesh:
 
     where = str(path)
     try:
-        rows = _element_rows(Path(path))
-        wanted = None if rows is None else [v for v in _VARIABLES if v != "Element"]
+        fast = _element_cells(Path(path))
+        wanted = None if fast is None else [v for v in _VARIABLES if v != "Element"]
         data = scipy.io.loadmat(path, squeeze_me=False, variable_names=wanted)
     except ExportError:
         raise
     except Exception as exc:  # scipy raises several kinds for broken files
         raise ExportError(f"cannot read {where} as a MATLAB file: {exc}") from None
-    if rows is not None:
-        data["Element"] = rows
-    if "Node" not in data or "Element" not in data:
+    if "Node" not in data or (fast is None and "Element" not in data):
         raise ExportError(f"{where} has no Node and Element variables (PolyMesher layout)")
-    element = data["Element"]
-    if element.dtype == object:
-        try:
-            cells = np.vstack(element.ravel()).astype(np.float64) if element.size else element
-        except ValueError:
-            cells = np.empty((0, 0))
-        if element.size and cells.shape != (element.size, 5):
-            raise ExportError(
-                f"{where}: some elements are not rows of 5 node ids; blockmesh reads pentagons"
-            )
-        cells = np.asarray(cells, dtype=np.float64).reshape(-1, 5)
-    else:
-        cells = np.asarray(element, dtype=np.float64).reshape(-1, 5)
-    cells = cells.astype(np.int64) - 1
+    cells = _cells(data.pop("Element"), where) if fast is None else fast
+    del fast
 
     def column(name: str, shift: int) -> np.ndarray | None:
         return None if name not in data else np.asarray(data[name]).ravel().astype(np.int64) - shift

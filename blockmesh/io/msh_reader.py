@@ -113,9 +113,7 @@ def _nodes(r: TextReader, f: _File) -> None:
         if parametric:
             raise ExportError(f"{r.where}: parametric nodes are not supported; save without them")
         tags.append(r.table(n, 1, np.int64, np.int32 if max_tag <= _INT32 else np.int64).ravel())
-        xyz = r.table(n, 3, np.float64)
-        coords.append(np.ascontiguousarray(xyz[:, :2]))
-        del xyz
+        coords.append(r.table(n, 3, np.float64, keep=2))
     f.node_tags = np.concatenate(tags) if tags else np.empty(0, np.int64)
     f.coords = np.concatenate(coords) if coords else np.empty((0, 2))
     if f.node_tags.size != total:
@@ -162,7 +160,7 @@ def _element_data(r: TextReader, f: _File) -> None:
         raise ExportError(f"{r.where}, line {r.line_number}: $ElementData needs 3 integer tags")
     n_comp, count = ints[1], ints[2]
     try:
-        rows = r.table(count, 1 + n_comp, np.int64)
+        rows = r.table(count, 1 + n_comp, np.int64, np.int32 if count <= _INT32 else np.int64)
     except ExportError:
         raise ExportError(
             f"{r.where}: the element data {strings[:1]} holds non-integer values; blockmesh "
@@ -258,7 +256,12 @@ def read_msh(path: Path) -> Mesh:
     """
     path = Path(path)
     where = str(path)
-    f = _parse(path)
+    arrays = _mesh_arrays(_parse(path), where)  # the parsed file is freed before the Mesh
+    return mesh_from_arrays(where=where, **arrays)
+
+
+def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
+    """The arguments of :func:`mesh_from_arrays` from a parsed file."""
     meta = f.meta
     assert f.coords is not None and f.node_tags is not None
     tags, nodes, entity = f.surface.joined(3)
@@ -308,20 +311,19 @@ def read_msh(path: Path) -> Mesh:
     parent = None
     if parent_view is not None:
         parent = _values_for(tags, parent_view, "parent", where)[merged.first_element]
-    return mesh_from_arrays(
-        points,
-        merged.cells,
-        where=where,
-        block_id=block_id,
-        parent=parent,
-        region=region,
-        region_names=region_names,
-        boundary_edges=lines,
-        boundary_patch=patch,
-        patch_names=patch_names,
-        level=meta.get("level", 0),
-        name=meta.get("name", ""),
-    )
+    return {
+        "points": points,
+        "cells": merged.cells,
+        "block_id": block_id,
+        "parent": parent,
+        "region": region,
+        "region_names": region_names,
+        "boundary_edges": lines,
+        "boundary_patch": patch,
+        "patch_names": patch_names,
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+    }
 
 
 def _groups(f: _File, dim: int, names: Any) -> tuple[dict[int, int], list[str]]:

@@ -26,7 +26,7 @@ import gzip
 import re
 from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -39,6 +39,7 @@ from .text import TextReader
 __all__ = ["foam_file", "read_boundary", "read_faces", "read_list", "read_openfoam"]
 
 _INT32 = np.iinfo(np.int32).max
+_CHUNK = 1 << 18
 
 
 @contextlib.contextmanager
@@ -311,6 +312,12 @@ def read_openfoam(path: Path) -> Mesh:
     """
     path = Path(path).absolute()
     poly = _find_polymesh(path)
+    arrays = _mesh_arrays(poly)  # the parsed files are freed before the Mesh is built
+    return mesh_from_arrays(where=str(poly), **arrays)
+
+
+def _mesh_arrays(poly: Path) -> dict[str, Any]:
+    """The arguments of :func:`mesh_from_arrays` from the files of ``poly``."""
     where = str(poly)
     patches = read_boundary(poly)
     empty = [p for p in patches if p.get("type") == "empty"]
@@ -369,8 +376,12 @@ def read_openfoam(path: Path) -> Mesh:
         raise ExportError(f"{where}: not every cell has exactly one face on the z = {zmin} plane")
     cells = np.empty((n_cells, 5), dtype=np.int64)
     cells[cells_of] = rows[:, ::-1]  # the back face runs clockwise seen from +z
-    flip = signed_area(points[cells][:, :, :2]) < 0
-    cells[flip] = cells[flip][:, ::-1]
+    del rows, cells_of, fronts, cell_of
+    xy = points[:, :2]
+    for start in range(0, n_cells, _CHUNK):
+        block = cells[start : start + _CHUNK]
+        flip = signed_area(xy[block]) < 0
+        block[flip] = block[flip][:, ::-1]
 
     used = np.zeros(points.shape[0], dtype=bool)
     used[cells] = True
@@ -395,14 +406,13 @@ def read_openfoam(path: Path) -> Mesh:
     zones = _read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
-    return mesh_from_arrays(
-        points[used, :2],
-        new_id[cells],
-        where=where,
-        region=region,
-        region_names=region_names,
-        boundary_edges=new_id[np.concatenate(edges)] if edges else np.empty((0, 2), np.int64),
-        boundary_patch=np.concatenate(patch) if patch else np.empty(0, np.int64),
-        patch_names=names,
-        name=case.name,
-    )
+    return {
+        "points": xy[used],
+        "cells": new_id[cells],
+        "region": region,
+        "region_names": region_names,
+        "boundary_edges": new_id[np.concatenate(edges)] if edges else np.empty((0, 2), np.int64),
+        "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
+        "patch_names": names,
+        "name": case.name,
+    }

@@ -368,16 +368,19 @@ class TextReader:
         out_dtype: type | None = None,
         *,
         blank: bytes = b"",
+        keep: int | None = None,
     ) -> np.ndarray:
         """The next ``rows`` lines of ``cols`` numbers each, as a ``(rows, cols)`` array.
 
         Parsed as ``dtype`` and stored as ``out_dtype`` (default ``dtype``), e.g. int64 values
-        kept as int32; the characters in ``blank`` are read as spaces (``b"()"`` for OpenFOAM's
+        kept as int32; only the first ``keep`` columns are stored if given (``(x, y)`` of
+        ``x y z``); the characters in ``blank`` are read as spaces (``b"()"`` for OpenFOAM's
         ``(x y z)`` and ``4(a b c d)``). Raises :class:`ExportError` naming the lines when they do
         not hold ``cols`` numbers each.
         """
         spaces = bytes.maketrans(blank, b" " * len(blank)) if blank else None
-        out: np.ndarray = np.empty((rows, cols), dtype=out_dtype or dtype)
+        width = cols if keep is None else keep
+        out: np.ndarray = np.empty((rows, width), dtype=out_dtype or dtype)
         done = 0
         first = self.line_number + 1
         while done < rows:
@@ -397,7 +400,14 @@ class TextReader:
                     f"{self.where}, lines {self.line_number + 1}..{self.line_number + k}: "
                     f"expected {cols} numbers on each line, found {values.size} on {k} lines"
                 )
-            out[done : done + k] = values.reshape(k, cols)
+            if values.dtype != out.dtype and values.size and out.dtype.kind in "iu":
+                limits = np.iinfo(out.dtype)
+                if values.min() < limits.min or values.max() > limits.max:
+                    raise ExportError(
+                        f"{self.where}, lines {self.line_number + 1}..{self.line_number + k}: "
+                        f"numbers beyond {out.dtype} ({values.min()}..{values.max()})"
+                    )
+            out[done : done + k] = values.reshape(k, cols)[:, :width]
             done += k
             self.line_number += k
             if self._pos >= len(self._buf):

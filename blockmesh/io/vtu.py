@@ -42,7 +42,7 @@ from __future__ import annotations
 import shutil
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
@@ -55,7 +55,15 @@ from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
 
-__all__ = ["FORMAT", "field_data", "mesh_from_meshio", "meshio_mesh", "read_vtu", "write_vtu"]
+__all__ = [
+    "FORMAT",
+    "field_data",
+    "mesh_from_meshio",
+    "meshio_arrays",
+    "meshio_mesh",
+    "read_vtu",
+    "write_vtu",
+]
 
 _FIELD = "blockmesh"
 
@@ -170,6 +178,11 @@ def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
     Cell data ``block_id``, ``region``, ``parent`` and ``patch`` are used when present, names
     from ``meta`` (the JSON metadata) or the ``patch:NAME`` lookups of the field data.
     """
+    return mesh_from_arrays(where=where, **meshio_arrays(vm, meta, where))
+
+
+def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
+    """The arguments of :func:`mesh_from_arrays` for :func:`mesh_from_meshio`."""
     blocks = [(k, c.type, c.data) for k, c in enumerate(vm.cells)]
     polys = [(k, d) for k, t, d in blocks if t in ("polygon", "pentagon")]
     lines = [(k, d) for k, t, d in blocks if t == "line"]
@@ -194,20 +207,19 @@ def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
     patch_names = _names(meta, vm.field_data, "patch")
     if edges is not None and patch is None:
         patch_names = patch_names or ["boundary"]
-    return mesh_from_arrays(
-        vm.points,
-        cells,
-        where=where,
-        block_id=gather("block_id", polys),
-        parent=gather("parent", polys),
-        region=gather("region", polys),
-        region_names=_names(meta, vm.field_data, "region"),
-        boundary_edges=edges if edges is not None else (np.empty((0, 2)) if meta else None),
-        boundary_patch=patch,
-        patch_names=patch_names,
-        level=meta.get("level", 0),
-        name=meta.get("name", ""),
-    )
+    return {
+        "points": vm.points,
+        "cells": cells,
+        "block_id": gather("block_id", polys),
+        "parent": gather("parent", polys),
+        "region": gather("region", polys),
+        "region_names": _names(meta, vm.field_data, "region"),
+        "boundary_edges": edges if edges is not None else (np.empty((0, 2)) if meta else None),
+        "boundary_patch": patch,
+        "patch_names": patch_names,
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+    }
 
 
 def read_vtu(path: Path) -> Mesh:
@@ -227,7 +239,9 @@ def read_vtu(path: Path) -> Mesh:
         raise ExportError(f"cannot read {where} as VTU: {exc}") from None
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
-    return mesh_from_meshio(vm, meta, where)
+    arrays = meshio_arrays(vm, meta, where)
+    del vm  # meshio's copies are freed before the Mesh is built
+    return mesh_from_arrays(where=where, **arrays)
 
 
 FORMAT = Format(

@@ -280,7 +280,7 @@ def _mixed(top: np.ndarray, n_elements: int, where: str) -> tuple[np.ndarray, np
         )
     if np.any(line[:, 0] != _POLYLINE) or np.any(line[:, 1] != 2):
         raise ExportError(f"{where}: the Mixed topology holds lines that are not 2-node lines")
-    return poly[:, 2:], line[:, 2:]
+    return np.ascontiguousarray(poly[:, 2:]), np.ascontiguousarray(line[:, 2:])
 
 
 def read_xdmf(path: Path) -> Mesh:
@@ -342,10 +342,10 @@ def read_xdmf(path: Path) -> Mesh:
             cells, edges = _mixed(item(top_el, "the topology"), n_elements, where)
             m = cells.shape[0]
             block_id, parent, region = (
-                None if a is None else a[:m] for a in (block_id, parent, region)
+                None if a is None else a[:m].copy() for a in (block_id, parent, region)
             )
             patch = attribute(cells_grid, "patch")
-            patch = None if patch is None else patch[m:]
+            patch = None if patch is None else patch[m:].copy()
         else:
             cells = item(top_el, "the polygons").reshape(-1, 5)
             if lines_grid is not None:
