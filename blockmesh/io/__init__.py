@@ -47,7 +47,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from ..errors import ExportError
+from ..errors import BlockMeshError, ExportError
 from ..mesh import Mesh
 from . import legacy_vtk, mat, msh, npz, openfoam, vtu, xdmf
 from ._common import Format, check_mesh
@@ -215,8 +215,10 @@ def write(
     ------
     ExportError
         Unknown format or extension, an option the format does not take, a missing parent
-        directory, an operating-system failure (full disk, read-only or forbidden folder), or a
-        mesh the format cannot hold. The old output, if any, is then left as it was.
+        directory, an operating-system failure (full disk, read-only or forbidden folder), a
+        mesh that fails its final check (:meth:`Mesh.check_geometry`: every cell strictly convex
+        and counter-clockwise) or one the format cannot hold. The old output, if any, is then
+        left as it was.
 
     Examples
     --------
@@ -233,6 +235,10 @@ def write(
     fmt = format_for_path(path, format)
     mesh = check_mesh(mesh)
     kwargs = check_options(fmt, split=split, compression=compression, **options)
+    try:
+        mesh.check_geometry()  # the final guard: never write a broken mesh
+    except BlockMeshError as error:
+        raise ExportError(f"cannot write {path}: {error}") from error
     return fmt.writer(mesh, Path(path), **kwargs)
 
 

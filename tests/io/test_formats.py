@@ -493,3 +493,14 @@ def test_cli_msh_has_a_default_split(tmp_path: Path, capsys: pytest.CaptureFixtu
     code, _, err = run_cli(capsys, "mesh", "l-shape", "--level", "1", "-o", str(tmp_path / "m.msh"))
     assert code == 0, err
     assert '"split":"tri5"' in (tmp_path / "m.msh").read_text()
+
+
+@pytest.mark.parametrize("name", FORMAT_NAMES)
+def test_a_broken_mesh_is_not_written(tmp_path: Path, name: str) -> None:
+    """The final guard (Mesh.check_geometry) runs before every write: a counter-clockwise but
+    not convex pentagon (an arrow head) is refused, and nothing is written."""
+    arrow = np.array([[-1, -1], [1, -1], [2, 0], [0, -0.5], [-2, 0.0]])
+    broken = Mesh.from_cells(arrow, [[0, 1, 2, 3, 4]])
+    with pytest.raises(ExportError, match="not strictly convex and counter-clockwise"):
+        bio.write(broken, target(bio.FORMATS[name], tmp_path), format=name)
+    assert listing(tmp_path) == []
