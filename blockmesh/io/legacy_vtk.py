@@ -124,6 +124,78 @@ def _read_field(head: bytes, where: str) -> dict[str, np.ndarray]:
     return out
 
 
+_SIZES = {
+    "double": 8, "float": 4, "vtktypeint64": 8, "vtktypeuint64": 8, "long": 8,
+    "unsigned_long": 8, "int": 4, "unsigned_int": 4, "vtktypeint32": 4, "vtktypeuint32": 4,
+    "short": 2, "unsigned_short": 2, "vtktypeint16": 2, "vtktypeuint16": 2, "char": 1,
+    "unsigned_char": 1, "vtktypeint8": 1, "vtktypeuint8": 1,
+}  # fmt: skip
+
+
+def _check_sizes(path: Path, where: str) -> None:
+    """ExportError if a binary legacy file announces more data than it holds (damaged).
+
+    The sections are walked by their headers (each payload is skipped, not read; the cell
+    offsets are checked), so a damaged count is caught before a reader allocates for it.
+    """
+    size = path.stat().st_size
+    with open(path, "rb") as f:
+        for _ in range(2):
+            f.readline()
+        if f.readline().strip().upper() != b"BINARY":
+            return
+
+        def skip(count: int, kind: str, line: bytes) -> None:
+            if kind not in _SIZES:
+                raise LookupError(kind)
+            need = count * _SIZES[kind]
+            if count < 0 or f.tell() + need > size:
+                raise ExportError(
+                    f"{where}: the section {line[:60].decode(errors='replace')!r} announces "
+                    f"{need} bytes but the file ends before (damaged?)"
+                )
+            f.seek(need, 1)
+
+        items = 0
+        try:
+            while line := f.readline():
+                words = line.split()
+                if not words:
+                    continue
+                key = words[0].upper()
+                if key == b"POINTS":
+                    skip(3 * int(words[1]), words[2].decode().lower(), line)
+                elif key in (b"OFFSETS", b"CONNECTIVITY"):
+                    skip(items, words[1].decode().lower(), line)
+                elif key == b"CELLS":
+                    items = int(words[1])  # the offsets; the connectivity count is words[2]
+                    offsets = f.readline()
+                    kind = offsets.split()[1].decode().lower()
+                    start = f.tell()
+                    skip(items, kind, offsets)
+                    if kind == "vtktypeint64":  # the offsets must be 0 .. count, increasing
+                        f.seek(start)
+                        values = np.frombuffer(f.read(8 * items), dtype=">i8")
+                        if values.size and (
+                            values[0] != 0
+                            or values[-1] != int(words[2])
+                            or np.any(np.diff(values) < 0)
+                        ):
+                            raise ExportError(f"{where}: the cell offsets are damaged")
+                    connectivity = f.readline()
+                    skip(int(words[2]), connectivity.split()[1].decode().lower(), connectivity)
+                elif key == b"CELL_TYPES":
+                    skip(int(words[1]), "int", line)
+                elif key in (b"CELL_DATA", b"POINT_DATA", b"FIELD", b"DATASET"):
+                    continue
+                elif len(words) == 4 and words[1].isdigit() and words[2].isdigit():
+                    skip(int(words[1]) * int(words[2]), words[3].decode().lower(), line)
+                else:
+                    return  # a section this check does not know: leave it to the reader
+        except (LookupError, ValueError, IndexError, UnicodeDecodeError):
+            return
+
+
 def read_vtk(path: Path) -> Mesh:
     """Read a legacy VTK file of pentagons (and boundary lines), as :func:`write_vtk` writes.
 
@@ -134,11 +206,14 @@ def read_vtk(path: Path) -> Mesh:
 
     where = str(path)
     try:
+        _check_sizes(Path(path), where)
         with open(path, "rb") as f:
             head = f.read(1 << 20)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            vm = meshio.read(str(path), file_format="vtk")
+            vm = meshio.vtk.read(str(path))  # not meshio.read: it exits the interpreter on errors
+    except ExportError:
+        raise
     except Exception as exc:  # meshio raises many kinds
         raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
     fields = _read_field(head, where)

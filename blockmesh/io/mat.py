@@ -52,6 +52,7 @@ from ..atomic import atomic_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, mesh_from_arrays
+from .mat_check import check_mat
 from .names import MATLAB_NAME
 
 __all__ = ["FORMAT", "matlab_name", "read_mat", "write_mat"]
@@ -273,6 +274,7 @@ def read_mat(path: Path) -> Mesh:
     where = str(path)
     try:
         fast = _element_cells(Path(path))
+        check_mat(Path(path), skip=("Element",) if fast is not None else ())
         wanted = None if fast is None else [v for v in _VARIABLES if v != "Element"]
         data = scipy.io.loadmat(path, squeeze_me=False, variable_names=wanted)
     except ExportError:

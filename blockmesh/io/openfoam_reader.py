@@ -34,7 +34,7 @@ from ..errors import ExportError
 from ..geometry import signed_area
 from ..mesh import Mesh
 from ._common import mesh_from_arrays
-from .text import TextReader
+from .text import TextReader, parse_numbers
 
 __all__ = ["foam_file", "read_boundary", "read_faces", "read_list", "read_openfoam"]
 
@@ -124,7 +124,7 @@ def read_list(
         if match:
             count = int(match[1])
             inner = match[2].replace(b"(", b" ").replace(b")", b" ")
-            values: np.ndarray = np.array(inner.split(), dtype=dtype)
+            values = parse_numbers(inner, dtype, f"{r.where}, line {r.line_number}")
             if pattern is _UNIFORM:
                 values = np.repeat(values, count)
             if values.size != count * cols:
@@ -259,7 +259,7 @@ def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None
                 if _INLINE.match(rest) or _UNIFORM.match(rest):
                     inner = _INLINE.match(rest) or _UNIFORM.match(rest)
                     assert inner is not None
-                    values = np.array(inner[2].split(), dtype=np.int64)
+                    values = parse_numbers(inner[2], np.int64, f"{r.where}, line {r.line_number}")
                     labels = values if _INLINE.match(rest) else np.repeat(values, int(inner[1]))
                 else:
                     count = int(rest) if rest.isdigit() else _list_size(r)

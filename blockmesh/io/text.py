@@ -22,6 +22,9 @@ b'1 5e-1\\n20 -3.3333333333333331e-1\\n'
 
 from __future__ import annotations
 
+import contextlib
+import io
+import os
 import warnings
 from collections.abc import Sequence
 from typing import BinaryIO, Protocol
@@ -289,12 +292,18 @@ class TextReader:
         self.line_number = 0
         self._buf = b""
         self._pos = 0
+        self._read = 0  # bytes read from the file so far
+        self._size: int | None = None  # unknown for streams (gzip): no size checks then
+        if isinstance(file, io.BufferedReader | io.FileIO):
+            with contextlib.suppress(OSError, ValueError):
+                self._size = os.fstat(file.fileno()).st_size
 
     def _more(self) -> bool:
         """Append the next chunk of the file to the buffer; False at the end of the file."""
         data = self.file.read(self.chunk)
         if not data:
             return False
+        self._read += len(data)
         self._buf = self._buf[self._pos :] + data
         self._pos = 0
         return True
@@ -336,7 +345,9 @@ class TextReader:
             if text.strip() == end:
                 return out
             if not text and self.at_end:
-                raise ExportError(f"{self.where}: no {end.decode()} after line {start}")
+                raise ExportError(
+                    f"{self.where}: no {end.decode(errors='replace')} after line {start}"
+                )
             out.append(text)
 
     def _take(self, n_lines: int) -> bytes:
@@ -380,7 +391,18 @@ class TextReader:
         """
         spaces = bytes.maketrans(blank, b" " * len(blank)) if blank else None
         width = cols if keep is None else keep
-        out: np.ndarray = np.empty((rows, width), dtype=out_dtype or dtype)
+        left = None if self._size is None else self._size - self._read + len(self._buf) - self._pos
+        if rows < 0 or (left is not None and rows * cols * 2 > left + 1):
+            raise ExportError(
+                f"{self.where}, line {self.line_number}: a table of {rows} lines of {cols} "
+                f"numbers is announced, but the file has only {left} bytes left (damaged?)"
+            )
+        try:
+            out: np.ndarray = np.empty((rows, width), dtype=out_dtype or dtype)
+        except (MemoryError, ValueError):
+            raise ExportError(
+                f"{self.where}, line {self.line_number}: a table of {rows} lines is too large"
+            ) from None
         done = 0
         first = self.line_number + 1
         while done < rows:

@@ -234,7 +234,7 @@ def read_vtu(path: Path) -> Mesh:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            vm = meshio.read(str(path), file_format="vtu")
+            vm = meshio.vtu.read(str(path))  # not meshio.read: it exits the interpreter on errors
     except Exception as exc:  # meshio raises many kinds
         raise ExportError(f"cannot read {where} as VTU: {exc}") from None
     raw = vm.field_data.get(_FIELD)

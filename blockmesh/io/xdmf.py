@@ -69,6 +69,7 @@ from ..atomic import atomic_with_data
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
+from .text import parse_numbers
 
 __all__ = ["FORMAT", "read_xdmf", "write_xdmf"]
 
@@ -227,15 +228,23 @@ class _Heavy:
             except OSError as exc:
                 raise ExportError(f"cannot read {file} as HDF5: {exc}") from None
             self._check_pair(file)
-        if dataset not in self.files[file]:
-            raise ExportError(f"{self.where}: {file} has no dataset {dataset}")
-        return self.files[file][dataset][()]
+        try:
+            if dataset not in self.files[file]:
+                raise ExportError(f"{self.where}: {file} has no dataset {dataset}")
+            return self.files[file][dataset][()]
+        except ExportError:
+            raise
+        except Exception as exc:  # h5py raises many kinds for a damaged file
+            raise ExportError(f"cannot read {dataset} from {file}: {exc}") from None
 
     def _check_pair(self, file: Path) -> None:
         """ExportError if ``file`` was written by another write than the light file."""
         if self.write_id is None:
             return
-        raw = self.files[file].attrs.get("blockmesh")
+        try:
+            raw = self.files[file].attrs.get("blockmesh")
+        except Exception as exc:  # h5py raises many kinds for a damaged file
+            raise ExportError(f"cannot read the attributes of {file}: {exc}") from None
         got = decode_metadata(raw, str(file)).get("write_id") if raw is not None else None
         if got != self.write_id:
             raise ExportError(
@@ -253,9 +262,8 @@ def _read_item(item: ET.Element, heavy: _Heavy) -> np.ndarray:
     text = (item.text or "").strip()
     dims = tuple(int(s) for s in item.get("Dimensions", "").split())
     if fmt == "XML":
-        arr = np.array(
-            text.split(), dtype=np.float64 if item.get("NumberType") == "Float" else np.int64
-        )
+        kind = np.float64 if item.get("NumberType", "Float") == "Float" else np.int64
+        arr = parse_numbers(text.encode(), kind, f"{heavy.where}: a DataItem")
     elif fmt == "HDF":
         arr = heavy.dataset(text)
     else:

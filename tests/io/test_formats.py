@@ -504,3 +504,42 @@ def test_a_broken_mesh_is_not_written(tmp_path: Path, name: str) -> None:
     with pytest.raises(ExportError, match="not strictly convex and counter-clockwise"):
         bio.write(broken, target(bio.FORMATS[name], tmp_path), format=name)
     assert listing(tmp_path) == []
+
+
+def _damaged(data: bytes, seed: int) -> bytes:
+    """``data`` with a few bytes changed, a piece cut out or the end cut off."""
+    rng = np.random.default_rng(seed)
+    kind = seed % 3
+    out = bytearray(data)
+    if kind == 0:
+        for at in rng.integers(0, len(out), 4):
+            out[at] = int(rng.integers(0, 256))
+    elif kind == 1:
+        a = int(rng.integers(0, len(out)))
+        del out[a : a + int(rng.integers(1, 200))]
+    else:
+        del out[int(rng.integers(0, len(out))) :]
+    return bytes(out)
+
+
+@pytest.mark.parametrize("name", FORMAT_NAMES)
+def test_damaged_files_give_export_errors(tmp_path: Path, name: str) -> None:
+    """Reading a damaged file gives an ExportError (or a valid mesh), never another exception."""
+    fmt = bio.FORMATS[name]
+    good = tmp_path / "good"
+    good.mkdir()
+    path = bio.write(tagged(1), target(fmt, good), format=name)
+    files = [p for p in good.rglob("*") if p.is_file() and "system" not in p.parts]
+    for seed in range(40):
+        work = tmp_path / f"s{seed}"
+        shutil.copytree(good, work)
+        victim = files[seed % len(files)]
+        copy = work / victim.relative_to(good)
+        copy.write_bytes(_damaged(victim.read_bytes(), seed))
+        try:
+            back = bio.read(
+                work / path.relative_to(good) if not fmt.directory else work / "case", format=name
+            )
+        except ExportError:
+            continue
+        assert back.n_cells > 0  # a damage the format does not notice still gives a valid Mesh
