@@ -227,6 +227,13 @@ def _is_stale(path: Path, middle: str) -> bool:
     return False
 
 
+def _mtime(path: Path) -> float:
+    try:
+        return path.lstat().st_mtime
+    except OSError:  # removed meanwhile (by another writer's clean-up)
+        return 0.0
+
+
 def clean_stale(target: Path) -> list[Path]:
     """Remove the temporaries a killed write to ``target`` left; returns the paths handled.
 
@@ -255,7 +262,7 @@ def clean_stale(target: Path) -> list[Path]:
     except OSError:
         return []
     stale = [p for p in entries if _is_stale(p, p.name[len(prefix) : -4])]
-    stale.sort(key=lambda p: p.lstat().st_mtime if p.exists() else 0.0, reverse=True)
+    stale.sort(key=_mtime, reverse=True)
     for path in stale:
         if path.name.endswith(".old") and path.is_dir() and not os.path.lexists(target):
             with contextlib.suppress(OSError):

@@ -198,13 +198,14 @@ def _element_cells(path: Path) -> np.ndarray | None:
             start = f.tell()
             if kind in (_MI_COMPRESSED, _MI_MATRIX):
                 stream = _Bytes(_chunks(f, size, kind == _MI_COMPRESSED))
+                inner = kind
                 if kind == _MI_COMPRESSED:
-                    inner = stream.take(8)
-                    kind = int(np.frombuffer(inner, dtype="<u4")[0]) if inner else 0
-                head = stream.take(48) if kind == _MI_MATRIX else None
+                    raw = stream.take(8)
+                    inner = int(np.frombuffer(raw, dtype="<u4")[0]) if raw else 0
+                head = stream.take(48) if inner == _MI_MATRIX else None
                 if head is not None and _name(head) == b"Element":
                     return _records(stream, head)
-            f.seek(start + size + (-size % 8))
+            f.seek(start + size + (-size % 8 if kind == _MI_MATRIX else 0))  # none after zlib
 
 
 def _name(head: bytes) -> bytes | None:

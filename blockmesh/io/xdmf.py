@@ -133,7 +133,7 @@ def _owned(light: str) -> Callable[[Path], bool]:
         try:
             with h5py.File(path, "r") as f:
                 raw = f.attrs.get("blockmesh")
-        except (OSError, ValueError):
+        except Exception:  # not an HDF5 file, or a damaged one: not ours to remove
             return False
         if raw is None:
             return False
