@@ -56,6 +56,7 @@ from .errors import ExportError
 __all__ = [
     "atomic_dir",
     "atomic_file",
+    "atomic_files",
     "atomic_with_data",
     "check_target",
     "clean_stale",
@@ -292,6 +293,62 @@ def atomic_file(target: Path) -> Iterator[Path]:
             os.replace(tmp, target)
         finally:
             _unlink(tmp)
+
+
+@contextlib.contextmanager
+def atomic_files(*targets: Path) -> Iterator[tuple[Path, ...]]:
+    """Temporary paths for several ``targets``, renamed onto them one after the other.
+
+    Each file is whole, and if a rename fails the targets already renamed are put back; but a
+    process killed between two renames leaves new and old files side by side. For a light file
+    that names a data file use :func:`atomic_with_data`, which has no such window.
+    """
+    targets = tuple(check_target(Path(t)) for t in targets)
+    with export_errors(targets[0]):
+        temps: list[Path] = []
+        try:
+            for t in targets:
+                clean_stale(t)
+                temps.append(_new_temp_file(t))
+            yield tuple(temps)
+            for tmp, t in zip(temps, targets, strict=True):
+                os.chmod(tmp, _mode_for(t, 0o666))
+            _replace_all(temps, list(targets))
+        finally:
+            for tmp in temps:
+                _unlink(tmp)
+
+
+def _replace_all(temps: list[Path], targets: list[Path]) -> None:
+    """Rename every temporary onto its target; if one rename fails, put the old targets back."""
+    done: list[tuple[Path, Path | None]] = []
+    try:
+        for tmp, target in zip(temps, targets, strict=True):
+            backup = None
+            if os.path.lexists(target):
+                backup = _temp_path(target)
+                try:
+                    os.link(target, backup)
+                except OSError:  # no hard links on this file system
+                    shutil.copy2(target, backup)
+            try:
+                os.replace(tmp, target)
+            except BaseException:
+                if backup is not None:
+                    _unlink(backup)
+                raise
+            done.append((target, backup))
+    except BaseException:
+        for target, backup in reversed(done):  # each put back, whatever the others do
+            with contextlib.suppress(OSError):
+                if backup is not None:
+                    os.replace(backup, target)
+                else:
+                    target.unlink()
+        raise
+    for _, backup in done:
+        if backup is not None:
+            _unlink(backup)
 
 
 @contextlib.contextmanager

@@ -17,6 +17,7 @@ from typing import Any
 
 from ..domain import Domain
 from ..errors import BlockMeshError
+from ..improve import QUALITY_RULES, refine_with_rule
 from ..io import SPLITS, check_options, format_for_path
 from ..mesh import Mesh
 from ..refinement import NUMBERINGS, refine
@@ -63,6 +64,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (default 0)"
     )
     parser.add_argument(
+        "--quality-rule",
+        choices=QUALITY_RULES,
+        default="paper",
+        help="node placement: the paper's (default) or optimized after every level (every node "
+        "off the boundary moves, boundary nodes slide along it; see blockmesh.improve)",
+    )
+    parser.add_argument(
         "-o",
         "--output",
         metavar="PATH",
@@ -106,11 +114,19 @@ def _mesh_one(
     started = time.perf_counter()
     mesh = refine(
         target,
-        options["level"],
+        options["level"] if options["quality_rule"] == "paper" else 0,
         smooth=options["smooth"],
         max_memory=options["max_memory"],
         progress=progress,
     )
+    if options["quality_rule"] != "paper":
+        mesh = refine_with_rule(
+            mesh,
+            options["level"],
+            rule=options["quality_rule"],
+            smooth=options["smooth"],
+            max_memory=options["max_memory"],
+        )
     seconds = time.perf_counter() - started
     bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
     if options["numbering"] == "rcm":
@@ -131,6 +147,7 @@ def _mesh_one(
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
+        "quality_rule": options["quality_rule"],
         "seconds": seconds,
         "plot": None,
         "quality_plot": None,
@@ -177,6 +194,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         "level": args.level,
         "numbering": args.numbering,
         "smooth": args.smooth,
+        "quality_rule": args.quality_rule,
         "max_memory": args.max_memory,
         "plot": args.plot,
         "quality_plot": args.quality_plot,

@@ -204,3 +204,32 @@ def test_concurrent_writers_leave_one_whole_pair(tmp_path: Path) -> None:
     assert [r.wait(timeout=300) for r in runs] == [0, 0]
     assert bio.read(path).n_cells in (6, 36)
     assert len(listing(tmp_path)) == 2 and not list(tmp_path.glob(".*"))
+
+
+def test_atomic_files_puts_the_old_files_back_when_a_rename_fails(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The older several-file commit (kept for its users): all renamed, or all put back."""
+    a, b = tmp_path / "a.txt", tmp_path / "b.txt"
+    a.write_text("old a")
+    b.write_text("old b")
+    calls: list[object] = []
+
+    def flaky(src: object, dst: object) -> None:
+        calls.append(dst)
+        if dst == b:
+            raise OSError(errno.EIO, "rename failed")
+        os.replace(src, dst)
+
+    patch_atomic_os(monkeypatch, replace=flaky)
+    with pytest.raises(ExportError), atomic.atomic_files(a, b) as (ta, tb):
+        ta.write_text("new a")
+        tb.write_text("new b")
+    monkeypatch.undo()
+    assert (a.read_text(), b.read_text()) == ("old a", "old b")
+    assert listing(tmp_path) == ["a.txt", "b.txt"]
+    with atomic.atomic_files(a, b) as (ta, tb):
+        ta.write_text("new a")
+        tb.write_text("new b")
+    assert (a.read_text(), b.read_text()) == ("new a", "new b")
+    assert listing(tmp_path) == ["a.txt", "b.txt"]
