@@ -139,11 +139,8 @@ def main() -> None:
     print("-" * len(header))
     print(f"{'np.save (floor)':<20} {t0:8.2f} {1:8.1f} {s0 / 1e6:8.1f} {1:8.1f}")
     if args.read:
-        arrays = {
-            k: getattr(mesh, k)
-            for k in ("points", "cells", "block_id", "parent", "region")
-            + ("boundary_edges", "boundary_patch")
-        }
+        names = ("points", "cells", "block_id", "parent", "region", "boundary_edges")
+        arrays = {k: getattr(mesh, k) for k in (*names, "boundary_patch")}
 
         def check() -> Mesh:  # read-only arrays: taken over, not copied
             return Mesh(**arrays, patch_names=mesh.patch_names, region_names=mesh.region_names)
