@@ -18,7 +18,7 @@ from typing import Any
 from ..domain import Domain
 from ..errors import BlockMeshError
 from ..improve import QUALITY_RULES, refine_with_rule
-from ..io import SPLITS, format_for_path
+from ..io import SPLITS, check_options, format_for_path
 from ..mesh import Mesh
 from ..refinement import NUMBERINGS, refine
 from ._common import (
@@ -74,14 +74,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "-o",
         "--output",
         metavar="PATH",
-        help="write the mesh; the format follows the extension (.vtu .xdmf .msh .mat .npz, or a "
-        "directory with --format openfoam); with several domains use {name}, e.g. 'out/{name}.vtu'",
+        help="write the mesh; the format follows the extension (.vtu .vtk .xdmf .msh .mat .npz, "
+        "or a directory with --format openfoam); with several domains use {name}, e.g. "
+        "'out/{name}.vtu'",
     )
     parser.add_argument(
         "--format", metavar="FORMAT", help="output format, overriding the extension"
     )
     parser.add_argument(
-        "--split", choices=SPLITS, help="how .msh output splits pentagons (gmsh has no pentagons)"
+        "--split",
+        choices=SPLITS,
+        help="how .msh output splits pentagons (gmsh has no pentagons; default tri5)",
     )
     parser.add_argument(
         "--compression",
@@ -184,12 +187,9 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
     check_folders(args.output, args.plot, args.quality_plot)
     if args.output:
-        # Fail before meshing: an unknown format or a missing --split is known now.
+        # Fail before meshing: an unknown format or an option it does not take is known now.
         fmt = format_for_path(args.output, args.format)
-        if fmt.needs_split and args.split is None:
-            raise BlockMeshError(
-                f"{args.output}: gmsh .msh has no pentagons; choose --split tri5, tri3 or quad5"
-            )
+        check_options(fmt, split=args.split, compression=args.compression)
     return {
         "level": args.level,
         "numbering": args.numbering,
