@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers import CURVED_CATALOGUE
+from helpers_io import find_checkmesh
 
 import blockmesh
-from blockmesh.io import openfoam
 
-CHECKMESH = openfoam.find_checkmesh()
+CHECKMESH = find_checkmesh()
 
 
 @pytest.mark.parametrize("suffix", [".vtu", ".npz", ".msh", ".mat", ".xdmf"])
