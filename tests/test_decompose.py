@@ -16,8 +16,8 @@ import shapely
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from blockmesh import decompose
-from blockmesh.decompose import Decomposition, decompose_convex_polygon
+from blockmesh.decompose import Decomposition, decompose_convex_polygon, templates
+from blockmesh.decompose import convex as decompose
 from blockmesh.errors import DomainError
 from blockmesh.geometry import (
     corner_sines,
@@ -265,8 +265,8 @@ def test_unit_square_angles_and_template_nodes() -> None:
     assert d.min_angle == pytest.approx(77.1, abs=0.05)
     assert d.max_angle == pytest.approx(128.6, abs=0.05)
     # The projective map of the unit square onto itself is the identity.
-    inner = np.array([not np.any(np.all(n == square, axis=1)) for n in decompose._SQUARE_NODES])
-    np.testing.assert_allclose(d.vertices[4:], decompose._SQUARE_NODES[inner], atol=1e-15)
+    inner = np.array([not np.any(np.all(n == square, axis=1)) for n in templates.SQUARE_NODES])
+    np.testing.assert_allclose(d.vertices[4:], templates.SQUARE_NODES[inner], atol=1e-15)
 
 
 def test_pentagon_is_its_own_block() -> None:
