@@ -81,6 +81,9 @@ class Domain:
         reversal); ``(-1, -1)`` for domains given as blocks. :attr:`polygon_edges` groups them.
         This is where curved boundaries attach: every block edge on a polygon edge is listed,
         in order along it.
+    block_source : ndarray (B,) int64
+        For a domain converted from a mesh (:meth:`from_mesh`), the element each block came
+        from (its index among the mesh's 2-D elements in file order); -1 otherwise.
     """
 
     name: str
@@ -94,6 +97,7 @@ class Domain:
     description: str = ""
     layout: str = "blocks"
     boundary_source: np.ndarray = field(default=None, repr=False)
+    block_source: np.ndarray = field(default=None, repr=False)
     _neighbour: np.ndarray = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
@@ -132,6 +136,7 @@ class Domain:
         set_(self, "region_names", tuple(self.region_names))
         set_(self, "_neighbour", readonly(neighbour, np.int64))
         set_(self, "boundary_source", _boundary_source(self.boundary_source, boundary.shape[0]))
+        set_(self, "block_source", _block_source(self.block_source, blocks.shape[0]))
 
     @classmethod
     def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
@@ -164,6 +169,7 @@ class Domain:
         layout: str = "blocks",
         merge_tol: float | None = None,
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
+        block_source: Any = None,
     ) -> Domain:
         """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
 
@@ -184,7 +190,10 @@ class Domain:
             (the merge maps them).
         boundary_source : mapping of (a, b) to (ring, edge), optional
             The polygon edge each boundary edge lies on (see :attr:`boundary_source`); used by
-            the polygon and mesh constructors.
+            the polygon constructors.
+        block_source : sequence of int, optional
+            The source element of each block (see :attr:`block_source`); used by
+            :meth:`from_mesh`.
 
         Examples
         --------
@@ -214,8 +223,7 @@ class Domain:
         neighbour = _neighbours(block_ids, points.shape[0])
         check_topology(points, block_ids, neighbour)
         boundary = boundary_loops(block_ids, neighbour)
-        owners = _edge_owners(block_ids)
-        patch_names, patch = resolve_patches(boundary, patches, owners)
+        patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
         source = None
         if boundary_source is not None:
@@ -236,6 +244,7 @@ class Domain:
             description=_check_text(description, "description"),
             layout=layout,
             boundary_source=source,
+            block_source=block_source,
         )
 
     @classmethod
@@ -520,15 +529,6 @@ def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
         raise TopologyError(f"{error}: the blocks overlap there") from None
 
 
-def _edge_owners(blocks: np.ndarray) -> dict[tuple[int, int], list[int]]:
-    owners: dict[tuple[int, int], list[int]] = {}
-    for b, block in enumerate(blocks.tolist()):
-        for k in range(5):
-            a, c = block[k], block[(k + 1) % 5]
-            owners.setdefault((min(a, c), max(a, c)), []).append(b)
-    return owners
-
-
 def _hole_list(holes: Any) -> list[Any]:
     if holes is None:
         return []
@@ -638,6 +638,17 @@ def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
         raise DomainError(
             f"boundary_source must have one (ring, edge) row per boundary edge, shape "
             f"({n_boundary}, 2), got {array.shape}"
+        )
+    return readonly(array, np.int64)
+
+
+def _block_source(source: Any, n_blocks: int) -> np.ndarray:
+    if source is None:
+        return readonly(np.full(n_blocks, -1, dtype=np.int64), np.int64)
+    array = np.asarray(source, dtype=np.int64)
+    if array.shape != (n_blocks,):
+        raise DomainError(
+            f"block_source must have one entry per block, shape ({n_blocks},), got {array.shape}"
         )
     return readonly(array, np.int64)
 

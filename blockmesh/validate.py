@@ -117,6 +117,8 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
             raise DomainFormatError(f"{what} coordinates must have shape (n, 2), got {raw.shape}")
         if not (np.issubdtype(raw.dtype, np.number) and not np.issubdtype(raw.dtype, np.bool_)):
             raise DomainFormatError(f"{what} coordinates must be numbers, got dtype {raw.dtype}")
+        if np.issubdtype(raw.dtype, np.floating) or np.issubdtype(raw.dtype, np.integer):
+            return _checked_values(np.array(raw, dtype=np.float64), what)
         items = raw.tolist()
     elif isinstance(raw, str | bytes) or not isinstance(raw, Iterable):
         raise DomainFormatError(
@@ -148,6 +150,10 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
             f"{what} {big} has a coordinate too large for a double ({_short(items[big])}); "
             f"coordinates must be at most {MAX_COORDINATE:g} in magnitude"
         ) from None
+    return _checked_values(points, what)
+
+
+def _checked_values(points: np.ndarray, what: str) -> np.ndarray:
     bad = np.flatnonzero(~np.all(np.isfinite(points), axis=1))
     _raise(
         DomainError,
@@ -495,7 +501,23 @@ def parse_blocks(raw: object, n_vertices: int) -> np.ndarray:
     ...
     blockmesh.errors.DomainFormatError: block 0 is [0, 1, 2, 3]: a block is a pentagon, 5 vertex ids
     """
-    if isinstance(raw, np.ndarray):
+    if (
+        isinstance(raw, np.ndarray)
+        and np.issubdtype(raw.dtype, np.integer)
+        and raw.ndim == 2
+        and raw.shape[1] == 5
+        and raw.shape[0] > 0
+    ):
+        ids = raw.astype(np.int64)
+        ordered = np.sort(ids, axis=1)
+        if (
+            ids.min() >= 0
+            and ids.max() < n_vertices
+            and not np.any(ordered[:, 1:] == ordered[:, :-1])
+        ):
+            return ids
+        items = raw.tolist()
+    elif isinstance(raw, np.ndarray):
         items = raw.tolist()
     elif isinstance(raw, str | bytes) or not isinstance(raw, Iterable):
         raise DomainFormatError(
@@ -512,13 +534,14 @@ def parse_blocks(raw: object, n_vertices: int) -> np.ndarray:
             continue
         for v in block:
             if not isinstance(v, numbers.Integral) or isinstance(v, bool):
-                problems.append(f"block {i} has vertex id {v!r}, which is not a whole number")
+                problems.append(f"block {i} has vertex id {_short(v)}, which is not a whole number")
             elif not 0 <= v < n_vertices:
                 problems.append(
-                    f"block {i} refers to vertex {v}, but the vertices are numbered "
+                    f"block {i} refers to vertex {_short(v)}, but the vertices are numbered "
                     f"0..{n_vertices - 1}"
                 )
-        if len(set(block)) != len(block) and all(isinstance(v, numbers.Integral) for v in block):
+        whole = all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in block)
+        if whole and len(set(block)) != len(block):
             twice = sorted({v for v in block if block.count(v) > 1})
             problems.append(
                 f"block {i} ({', '.join(map(str, block))}) uses vertex "
@@ -558,7 +581,9 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             for a, b in same
         ],
     )
-    unused = np.setdiff1d(np.arange(vertices.shape[0]), blocks)
+    used = np.zeros(vertices.shape[0], dtype=bool)
+    used[blocks.ravel()] = True
+    unused = np.flatnonzero(~used)
     _raise(
         DomainError,
         [
@@ -859,7 +884,7 @@ def _check_name(name: object, what: str) -> str:
 
 
 def resolve_patches(
-    boundary: np.ndarray, raw: Mapping[str, object] | None, edge_owner: Mapping[tuple, list]
+    boundary: np.ndarray, raw: Mapping[str, object] | None, blocks: np.ndarray
 ) -> tuple[tuple[str, ...], np.ndarray]:
     """Assign every boundary edge to one patch.
 
@@ -868,7 +893,8 @@ def resolve_patches(
     boundary : ndarray (Eb, 2)
         The boundary edges, oriented with the domain on their left.
     raw : mapping of name to a list of [a, b] vertex pairs, or None
-    edge_owner : mapping from a sorted vertex pair to the blocks using that edge
+    blocks : ndarray (B, 5)
+        The blocks (to name the owners of an edge that is not on the boundary).
 
     Returns
     -------
@@ -906,7 +932,7 @@ def resolve_patches(
             key = (int(pair[0]), int(pair[1]))
             k = index.get(key)
             if k is None:
-                owners = edge_owner.get(tuple(sorted(key)), [])
+                owners = _edge_owners(blocks, *key)
                 if owners:
                     problems.append(
                         f"patch {name!r} names edge {key}, which is not on the boundary: it is "
@@ -936,6 +962,13 @@ def resolve_patches(
     empty = [n for k, n in enumerate(names) if k not in used]
     _raise(DomainError, [f"patch {n!r} has no edges; give it edges or remove it" for n in empty])
     return tuple(names), patch
+
+
+def _edge_owners(blocks: np.ndarray, a: int, b: int) -> list[int]:
+    """The blocks having the edge ``(a, b)`` either way round. O(B)."""
+    ahead = np.roll(blocks, -1, axis=1)
+    hit = ((blocks == a) & (ahead == b)) | ((blocks == b) & (ahead == a))
+    return np.flatnonzero(np.any(hit, axis=1)).tolist()
 
 
 def resolve_regions(

@@ -52,7 +52,7 @@ __all__ = ["Decomposition", "decompose_convex_polygon"]
 
 #: Points closer than this times the polygon's diameter count as the same point (as in domain
 #: validation); an edge that short breaks the input contract.
-_SAME_POINT = 1e-9
+_SAME_POINT = 1e-11
 
 
 @dataclass(frozen=True)
@@ -103,7 +103,7 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     ----------
     polygon : ndarray, shape (n, 2)
         ``n >= 3`` vertices, counter-clockwise, strictly convex: no repeated points (every edge
-        longer than ``1e-9`` times the diameter) and every corner turning left by more than
+        longer than ``1e-11`` times the diameter) and every corner turning left by more than
         :data:`~blockmesh.geometry.COLLINEAR_SIN_TOL` in sine.
 
     Returns

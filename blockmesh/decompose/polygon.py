@@ -5,10 +5,13 @@ chooses the route:
 
 - a strictly convex polygon without holes and with at most :data:`CONVEX_LIMIT` corners goes to the
   exact layouts of :mod:`blockmesh.decompose.convex` (the fewest blocks: 1 for a pentagon, 9 for a
-  triangle, ``ceil((n - 2) / 3)`` for ``n >= 6``);
+  triangle, ``ceil((n - 2) / 3)`` for ``n >= 6``), unless their worst angle is below
+  :data:`CONVEX_MIN_ANGLE` and the general route does better (a 50:1 rectangle);
 - everything else (non-convex polygons, holes, straight corners kept between two patches, many
-  corners) is triangulated with quality refinement (:mod:`blockmesh.decompose.triangulate`), every
-  triangle becomes its 9-pentagon template with side nodes shared bit for bit
+  corners) is triangulated with quality refinement (:mod:`blockmesh.decompose.triangulate`),
+  neighbouring triangles are paired into convex quadrilaterals where that keeps them round
+  (:mod:`blockmesh.decompose.merge`), every piece becomes its ring-and-hub template (9 pentagons
+  for a triangle, 12 for a quadrilateral) with side nodes shared bit for bit
   (:mod:`blockmesh.decompose.pieces`), and the free nodes are moved to raise the worst angle
   (:mod:`blockmesh.decompose.optimise`).
 
@@ -36,14 +39,17 @@ import numpy as np
 from ..errors import DomainError, ResourceError
 from ..geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, local_frame
 from .convex import Decomposition, decompose_convex_polygon
+from .merge import pair_triangles
 from .optimise import improve_angles
 from .pieces import pentagons_from_pieces
 from .triangulate import DEFAULT_MIN_ANGLE, triangulate
 
-__all__ = ["CONVEX_LIMIT", "MAX_CORNERS", "decompose_polygon"]
+__all__ = ["CONVEX_LIMIT", "CONVEX_MIN_ANGLE", "MAX_CORNERS", "decompose_polygon"]
 
 #: Strictly convex polygons (no holes) with at most this many corners get the exact layouts.
 CONVEX_LIMIT = 16
+#: Exact convex layouts with a worst angle below this (degrees) are compared with the general route.
+CONVEX_MIN_ANGLE = 20.0
 #: Most ring corners accepted (the decomposition is near-linear; this bounds memory and time).
 MAX_CORNERS = 200_000
 
@@ -88,10 +94,12 @@ def decompose_polygon(
     if len(rings) == 1 and len(rings[0]) <= CONVEX_LIMIT and _strictly_convex(local[0]):
         try:
             decomposition = decompose_convex_polygon(local[0])
-        except DomainError:
+        except (DomainError, ValueError):
             decomposition = None  # too thin for the exact layouts: the general route copes
-    if decomposition is None:
-        decomposition = _triangulated(local, min_angle)
+    if decomposition is None or decomposition.min_angle < CONVEX_MIN_ANGLE:
+        general = _triangulated(local, min_angle)
+        if decomposition is None or general.min_angle > decomposition.min_angle:
+            decomposition = general
     return _to_global(decomposition, rings, frame)
 
 
@@ -102,7 +110,8 @@ def _strictly_convex(ring: np.ndarray) -> bool:
 def _triangulated(rings: list[np.ndarray], min_angle: float) -> Decomposition:
     """Quality triangulation, a template per triangle, then the free nodes moved."""
     t = triangulate(rings, min_angle=min_angle)
-    pentagons = pentagons_from_pieces(t.points, [t.triangles])
+    quads, triangles = pair_triangles(t.points, t.triangles)
+    pentagons = pentagons_from_pieces(t.points, [triangles, quads])
     nodes, blocks = pentagons.nodes, pentagons.blocks
     # Chains along every ring edge: the segments on it in order, each with its two side nodes.
     counts = [len(r) for r in rings]
