@@ -33,6 +33,8 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
+import io
 import itertools
 import warnings
 from pathlib import Path
@@ -81,14 +83,16 @@ def read_element_mesh(source: Any) -> Any:
     path = Path(source)
     if not path.exists():
         raise DomainFormatError(f"{path}: no such file")
-    from .. import io as bmio
+    from .. import io as blockmesh_io
 
     try:
-        return bmio.read(path)
+        return blockmesh_io.read(path)
     except (BlockMeshError, OSError, ValueError, KeyError, IndexError, TypeError):
         pass
     try:
-        return meshio.read(path)
+        # meshio's Gmsh reader prints a blank line to stdout; the library stays quiet.
+        with contextlib.redirect_stdout(io.StringIO()):
+            return meshio.read(path)
     except Exception as error:  # meshio raises many kinds for files it cannot parse
         if path.suffix.lower() == ".msh":
             gmsh_mesh = _read_with_gmsh(path)
