@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from .checks import readonly
-from .errors import ArgumentTypeError, DomainError, DomainFormatError
+from .errors import ArgumentTypeError, DomainError, DomainFormatError, TopologyError
 from .geometry import interior_angles, signed_area
 from .mesh import Mesh
 from .tomlio import dumps_domain, parse_domain_text, read_domain_file
@@ -219,9 +219,50 @@ class Domain:
         block_ids = parse_blocks(blocks, points.shape[0])
         if merge_tol is not None:
             points, block_ids, patches = _merged(points, block_ids, patches, merge_tol)
-        block_ids = check_block_shapes(points, block_ids, repair=True)
-        neighbour = _neighbours(block_ids, points.shape[0])
-        check_topology(points, block_ids, neighbour)
+        return cls._from_parsed(
+            points,
+            block_ids,
+            patches,
+            regions,
+            name=name,
+            description=description,
+            layout=layout,
+            boundary_source=boundary_source,
+            block_source=block_source,
+        )
+
+    @classmethod
+    def _from_parsed(
+        cls,
+        points: np.ndarray,
+        block_ids: np.ndarray,
+        patches: Any,
+        regions: Any,
+        *,
+        made_for: str | None = None,
+        boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
+        block_source: Any = None,
+        **text: str,
+    ) -> Domain:
+        """Check parsed blocks and build the Domain.
+
+        ``made_for`` names what blockmesh decomposed, so that its own blocks failing the checks
+        read as "too thin" rather than as a fault in blocks the user never wrote.
+        """
+        try:
+            block_ids = check_block_shapes(points, block_ids, repair=made_for is None)
+            neighbour = _neighbours(block_ids, points.shape[0])
+            check_topology(points, block_ids, neighbour)
+        except (DomainError, TopologyError) as error:
+            if made_for is None:
+                raise
+            lines = [line.strip() for line in str(error).splitlines()]
+            first = lines[1] if len(lines) > 1 and lines[0].endswith("problems:") else lines[0]
+            raise DomainError(
+                f"{made_for} is too thin (or too small for where it sits) to decompose in double "
+                f"precision: the blocks made for it fail their own check ({first}); widen its "
+                "thinnest part or move it nearer the origin"
+            ) from None
         boundary = boundary_loops(block_ids, neighbour)
         patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
@@ -233,7 +274,7 @@ class Domain:
             ).reshape(-1, 2)
         return cls._trusted(
             neighbour=neighbour,
-            name=_check_text(name, "name"),
+            name=_check_text(text.get("name", "blocks"), "name"),
             vertices=points,
             blocks=block_ids,
             boundary_edges=boundary,
@@ -241,8 +282,8 @@ class Domain:
             patch_names=patch_names,
             region=region,
             region_names=region_names,
-            description=_check_text(description, "description"),
-            layout=layout,
+            description=_check_text(text.get("description", ""), "description"),
+            layout=text.get("layout", "blocks"),
             boundary_source=source,
             block_source=block_source,
         )
@@ -313,10 +354,12 @@ class Domain:
         # Keep the user's patch order.
         order = list(patches or {})
         named = {k: named[k] for k in order if k in named}
-        return cls.from_blocks(
-            decomposition.vertices,
-            decomposition.blocks,
+        return cls._from_parsed(
+            np.array(decomposition.vertices),
+            np.array(decomposition.blocks),
             named,
+            None,
+            made_for="the polygon",
             name=name,
             description=description,
             layout=decomposition.layout,
