@@ -22,7 +22,7 @@ import numbers
 import re
 import warnings
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -47,6 +47,11 @@ from .validate import (
 )
 
 __all__ = ["Domain"]
+
+
+def _no_source() -> np.ndarray:
+    """The default of the ``*_source`` fields: not known (filled with -1 on construction)."""
+    return np.zeros(0, dtype=np.int64)
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,9 +101,9 @@ class Domain:
     region_names: tuple[str, ...]
     description: str = ""
     layout: str = "blocks"
-    boundary_source: np.ndarray = field(default=None, repr=False)
-    block_source: np.ndarray = field(default=None, repr=False)
-    _neighbour: np.ndarray = field(default=None, repr=False)
+    boundary_source: np.ndarray = field(default_factory=_no_source, repr=False)
+    block_source: np.ndarray = field(default_factory=_no_source, repr=False)
+    _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
         vertices = parse_points(self.vertices, "vertex")
@@ -558,8 +563,16 @@ class Domain:
 
 # ---------------------------------------------------------------------- helpers
 def _check_text(value: object, what: str) -> str:
+    """``value`` if it is a string without control characters (new lines allowed but in names)."""
     if not isinstance(value, str):
         raise DomainFormatError(f"the domain's {what} must be a string, got {value!r}")
+    allowed = "" if what == "name" else "\n\t"
+    for position, char in enumerate(value):
+        if not char.isprintable() and char not in allowed:
+            raise DomainFormatError(
+                f"the domain's {what} has the control character {char!r} at position "
+                f"{position}; use printable text"
+            )
     return value
 
 
@@ -674,7 +687,7 @@ def _steps_on_input_edges(
 
 
 def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
-    if source is None:
+    if source is None or source is MISSING or np.size(source) == 0:
         return readonly(np.full((n_boundary, 2), -1, dtype=np.int64), np.int64)
     array = np.asarray(source, dtype=np.int64)
     if array.shape != (n_boundary, 2):
@@ -686,7 +699,7 @@ def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
 
 
 def _block_source(source: Any, n_blocks: int) -> np.ndarray:
-    if source is None:
+    if source is None or source is MISSING or np.size(source) == 0:
         return readonly(np.full(n_blocks, -1, dtype=np.int64), np.int64)
     array = np.asarray(source, dtype=np.int64)
     if array.shape != (n_blocks,):

@@ -191,7 +191,8 @@ def _check_representable(vertices: np.ndarray, blocks: np.ndarray, frame) -> Non
     if bad.size:
         size = float(np.ptp(vertices[blocks[bad[0]]], axis=0).max())
         raise DomainError(
-            f"the polygon is too small for where it sits: its blocks are about {size:.3g} across "
+            f"the polygon is too small for where it sits to be decomposed in double precision: "
+            f"its blocks are about {size:.3g} across "
             f"at coordinates near {float(np.max(np.abs(frame.origin))):.3g}, where doubles are "
             f"only {frame.ulp():.3g} apart, and rounding folds {bad.size} of them; move the "
             "domain nearer the origin (or use other units)"
