@@ -195,5 +195,5 @@ def _check_representable(vertices: np.ndarray, blocks: np.ndarray, frame) -> Non
             f"its blocks are about {size:.3g} across "
             f"at coordinates near {float(np.max(np.abs(frame.origin))):.3g}, where doubles are "
             f"only {frame.ulp():.3g} apart, and rounding folds {bad.size} of them; move the "
-            "domain nearer the origin (or use other units)"
+            "domain near the origin (or use other units)"
         )
