@@ -635,7 +635,7 @@ def _ring_edges(patch_name: str, edge: object, sizes: list[int]) -> list[tuple[i
         '"hole K:E" (edge E of hole K)'
     )
     if isinstance(edge, numbers.Integral) and not isinstance(edge, bool):
-        if not 0 <= edge < sizes[0]:
+        if not 0 <= int(edge) < sizes[0]:
             raise DomainError(
                 f"patch {patch_name!r} names edge {edge}, but the polygon's edges are numbered "
                 f"0..{sizes[0] - 1}"

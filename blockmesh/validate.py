@@ -319,8 +319,9 @@ def check_rings(
                     stacklevel=4,
                 )
             vertex = np.r_[0, np.arange(n - 1, 0, -1)]
-        ring = Ring(pts[vertex], vertex, bool(backwards), pts)
-        out.append(_drop_straight_corners(ring, r, None if edge_patch is None else edge_patch[r]))
+        checked = Ring(pts[vertex], vertex, bool(backwards), pts)
+        patch_names = None if edge_patch is None else edge_patch[r]
+        out.append(_drop_straight_corners(checked, r, patch_names))
     return out
 
 
@@ -535,7 +536,7 @@ def parse_blocks(raw: object, n_vertices: int) -> np.ndarray:
         for v in block:
             if not isinstance(v, numbers.Integral) or isinstance(v, bool):
                 problems.append(f"block {i} has vertex id {_short(v)}, which is not a whole number")
-            elif not 0 <= v < n_vertices:
+            elif not 0 <= int(v) < n_vertices:
                 problems.append(
                     f"block {i} refers to vertex {_short(v)}, but the vertices are numbered "
                     f"0..{n_vertices - 1}"
@@ -599,7 +600,10 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     flat = np.flatnonzero(np.abs(areas) <= 1e-12 * extent**2)
     _raise(
         DomainError,
-        [f"{_block_label(blocks, b)} has zero area: its corners lie on one line" for b in flat],
+        [
+            f"{_block_label(blocks, int(b))} has zero area: its corners lie on one line"
+            for b in flat
+        ],
     )
     clockwise = np.flatnonzero(areas < 0)
     if clockwise.size:
@@ -607,7 +611,8 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             _raise(
                 DomainError,
                 [
-                    f"{_block_label(blocks, b)} runs clockwise; list its corners counter-clockwise"
+                    f"{_block_label(blocks, int(b))} runs clockwise; list its corners "
+                    "counter-clockwise"
                     for b in clockwise
                 ],
             )
@@ -631,7 +636,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     crossing = ~np.isclose(turning, 360.0, atol=1e-6)
     problems = []
     for b in np.flatnonzero(np.any(straight | wrong, axis=1) | crossing).tolist():
-        label = _block_label(blocks, b)
+        label = _block_label(blocks, int(b))
         for k in range(5):
             v = blocks[b, k]
             if straight[b, k]:
@@ -731,7 +736,8 @@ def _check_contacts(
         return
     points = shapely.points(local)
     problems = []
-    seen = set()
+    seen: set[tuple[int, int, int]] = set()
+    seen_pairs: set[tuple[int, int]] = set()
     for i, j in zip(first.tolist(), second.tolist(), strict=True):
         hanging = None
         for edge, other in ((i, j), (j, i)):
@@ -753,9 +759,9 @@ def _check_contacts(
             )
             continue
         x, y = sorted((int(slot[i]) // 5, int(slot[j]) // 5))
-        if (x, y) in seen:
+        if (x, y) in seen_pairs:
             continue
-        seen.add((x, y))
+        seen_pairs.add((x, y))
         problems.append(_overlap_message(vertices, local, blocks, x, y))
     _raise(TopologyError, problems)
 
@@ -992,7 +998,7 @@ def resolve_regions(
         for b in ids:
             if not isinstance(b, numbers.Integral) or isinstance(b, bool):
                 raise DomainFormatError(f"region {name!r} has block id {b!r}, not a whole number")
-            if not 0 <= b < n_blocks:
+            if not 0 <= int(b) < n_blocks:
                 problems.append(
                     f"region {name!r} names block {b}, but the blocks are numbered "
                     f"0..{n_blocks - 1}"

@@ -118,7 +118,8 @@ def _read_with_gmsh(path: Path) -> Any:
         tags, coords, _ = gmsh.model.mesh.getNodes()
         index = {int(t): k for k, t in enumerate(tags)}
         points = np.asarray(coords).reshape(-1, 3)
-        cells, sets = [], {}
+        cells: list[tuple[str, np.ndarray]] = []
+        sets: dict[str, dict[int, np.ndarray]] = {}
         for dim, entity in gmsh.model.getEntities():
             if dim not in (1, 2):
                 continue

@@ -353,24 +353,24 @@ class _Refiner:
         return len(self.x) - 1
 
     # ---------------------------------------------------------------- operations
-    def insert(self, t: int, px: float, py: float) -> tuple[str, object]:
+    def insert(self, t: int, px: float, py: float) -> tuple[str, list]:
         """Insert an interior point, walking from ``t`` to it.
 
         Returns ``("done", new triangles)``, ``("split", segments to split first)`` when the
-        point is outside or encroaches on boundary segments, or ``("skip", None)``.
+        point is outside or encroaches on boundary segments, or ``("skip", [])``.
         """
         where, s, i = self._locate(t, px, py)
         if where == "blocked":
             p, q = self.tri[s][i], self.tri[s][(i + 1) % 3]
             return "split", [(p, q)]
         if where != "inside":
-            return "skip", None
+            return "skip", []
         cavity, edges = self._cavity(s, px, py)
         encroached = [(p, q) for p, q, o in edges if o < 0 and self._encroaches(p, q, px, py)]
         if encroached:
             return "split", encroached
         if not self._star_shaped(edges, px, py):
-            return "skip", None
+            return "skip", []
         v = self._add_point(px, py)
         return "done", self._fill(cavity, edges, v)
 
@@ -464,11 +464,11 @@ class _Refiner:
                 continue
             status, payload = self.insert(t, *centre)
             if status == "done":
-                for s in payload:  # type: ignore[union-attr]
+                for s in payload:
                     consider(s)
             elif status == "split":
                 split_any = False
-                for p, q in payload:  # type: ignore[union-attr]
+                for p, q in payload:
                     if self._too_short(p, q):
                         continue
                     new = self.split(p, q)
