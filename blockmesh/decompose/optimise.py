@@ -81,8 +81,8 @@ def improve_angles(
     fixed: np.ndarray,
     *,
     slide: np.ndarray | None = None,
-    target: float = 40.0,
-    sweeps: int = 8,
+    target: float = 38.0,
+    sweeps: int = 5,
 ) -> np.ndarray:
     """Return new node positions with a better worst angle around every moved node.
 

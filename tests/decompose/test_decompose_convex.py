@@ -1,4 +1,4 @@
-"""Tests of :mod:`blockmesh.decompose`: convex polygons split into strictly convex pentagons.
+"""Tests of :mod:`blockmesh.decompose.convex`: convex polygons split into strictly convex pentagons.
 
 The property tests check, on random convex polygons (skinny ones included), everything a conforming
 block mesh needs: exact tiling, strictly convex counter-clockwise pentagons, edge-to-edge contact
@@ -37,9 +37,9 @@ def regular(n: int) -> np.ndarray:
 
 
 def meets_contract(polygon: np.ndarray) -> bool:
-    """Counter-clockwise, strictly convex, no edge shorter than 1e-9 times the diameter."""
+    """Counter-clockwise, strictly convex, no edge shorter than 1e-11 times the diameter."""
     edges = np.hypot(*(np.roll(polygon, -1, axis=0) - polygon).T)
-    return bool(is_strictly_convex(polygon)) and edges.min() > 1e-9 * polygon_diameter(polygon)
+    return bool(is_strictly_convex(polygon)) and edges.min() > 1e-11 * polygon_diameter(polygon)
 
 
 def expected_blocks(n: int) -> int:
@@ -166,9 +166,9 @@ def thin_quads(draw: st.DrawFn) -> np.ndarray:
 @given(ellipse_polygons())
 def test_random_convex_polygons_split_conformingly(polygon: np.ndarray) -> None:
     if len(polygon) <= 4:
-        # Templates need a little room: a corner of sine 1e-9 (the contract's limit) can leave
+        # Templates need a little room: a corner of sine 1e-12 (the contract's limit) can leave
         # template corners below it (see test_too_thin_polygon_raises).
-        assume(corner_sines(polygon).min() > 1e-7)
+        assume(corner_sines(polygon).min() > 1e-10)
     assert_valid(polygon, decompose_convex_polygon(polygon))
 
 
@@ -306,8 +306,8 @@ def test_broken_contract_raises_value_error(polygon: np.ndarray) -> None:
 
 
 def test_too_thin_polygon_raises() -> None:
-    # Corners of sine just above 1e-9 meet the contract, but template corners fall below it.
-    sliver = np.array([[0.0, 0.0], [1.0, 0.0], [-1.3, 3.3e-9]])
+    # Corners of sine just above 1e-12 meet the contract, but template corners fall below it.
+    sliver = np.array([[0.0, 0.0], [1.0, 0.0], [-1.3, 3.3e-12]])
     assert meets_contract(sliver)
     with pytest.raises(DomainError, match="too thin"):
         decompose_convex_polygon(sliver)
