@@ -67,22 +67,30 @@ def boolean_polygon(draw: st.DrawFn) -> shapely.Polygon:
 
 @st.composite
 def polygon_with_holes(
-    draw: st.DrawFn, n_max: int = 300, holes_max: int = 5
+    draw: st.DrawFn,
+    n_max: int = 300,
+    holes_max: int = 5,
+    depth: float = 0.5,
+    aspect_max: float = 10.0,
 ) -> tuple[np.ndarray, list[np.ndarray]]:
-    """A star-shaped, possibly skinny polygon with 0..holes_max small holes well inside it."""
-    outer = draw(star_ring(3, n_max))
-    aspect = draw(st.floats(1.0, 20.0))
+    """A star-shaped, possibly skinny polygon with 0..holes_max small holes well inside it.
+
+    The polygon is star-shaped about the origin, so a hole centred on the segment from the
+    origin to a corner lies inside it when it is small enough (checked, with a margin).
+    """
+    outer = draw(star_ring(3, n_max, depth=depth))
+    aspect = draw(st.floats(1.0, aspect_max))
     turn = draw(st.floats(0, np.pi))
     rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
     outer = (outer * [1.0, 1.0 / aspect]) @ rotation.T
     shell = shapely.Polygon(outer)
     size = float(np.ptp(outer, axis=0).max())
     holes: list[np.ndarray] = []
-    kept = []
-    low, high = outer.min(axis=0), outer.max(axis=0)
+    kept: list[shapely.Polygon] = []
     for _ in range(draw(st.integers(0, holes_max))):
-        where = low + (high - low) * np.array(draw(st.tuples(st.floats(0, 1), st.floats(0, 1))))
-        radius = size * draw(st.floats(0.01, 0.08))
+        corner = outer[draw(st.integers(0, len(outer) - 1))]
+        where = corner * draw(st.floats(0.0, 0.8))
+        radius = size * draw(st.floats(0.005, 0.05))
         hole = where + radius * draw(star_ring(3, 8, depth=0.4))
         polygon = shapely.Polygon(hole)
         margin = 0.2 * radius

@@ -65,7 +65,7 @@ def test_star_polygons_with_holes_tile_exactly(case, split):
 
 @pytest.mark.slow
 @MANY
-@given(polygon_with_holes(), st.integers(0, 300))
+@given(polygon_with_holes(depth=0.7, aspect_max=20.0), st.integers(0, 300))
 def test_star_polygons_with_holes_tile_exactly_many(case, split):
     _star_polygons_with_holes_tile_exactly(case, split)
 
