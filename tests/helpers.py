@@ -40,7 +40,9 @@ def star_ring(draw: st.DrawFn, n_min: int = 3, n_max: int = 300, depth: float = 
     gaps = np.array(draw(st.lists(st.floats(0.05, 1.0), min_size=n, max_size=n)))
     radii = np.array(draw(st.lists(st.floats(1.0 - depth, 1.0), min_size=n, max_size=n)))
     angles = 2 * np.pi * np.cumsum(gaps) / gaps.sum()
-    return np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+    ring = np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+    # Three corners within half a turn run clockwise; every ring here runs counter-clockwise.
+    return ring if signed_area(ring) > 0 else ring[::-1]
 
 
 @st.composite

@@ -192,7 +192,8 @@ def _sweep_set(
         trial = _block_scores(points, blocks[around])
         after = np.full(nodes.size, np.inf)
         np.minimum.at(after, owner, trial)
-        gain = after - before
+        with np.errstate(invalid="ignore"):
+            gain = np.nan_to_num(after - before, nan=0.0)  # -inf to -inf: no gain
         better = gain > np.maximum(best_gain, 1e-9)
         if better.any():
             best_gain[better] = gain[better]

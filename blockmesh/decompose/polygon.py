@@ -98,7 +98,8 @@ def decompose_polygon(
             decomposition = None  # too thin for the exact layouts: the general route copes
     if decomposition is None or decomposition.min_angle < CONVEX_MIN_ANGLE:
         general = _triangulated(local, min_angle)
-        if decomposition is None or general.min_angle > decomposition.min_angle:
+        # A clear margin, so that round-off (say, of a shift) does not flip the choice.
+        if decomposition is None or general.min_angle > decomposition.min_angle + 1.0:
             decomposition = general
     return _to_global(decomposition, rings, frame)
 
