@@ -1,4 +1,4 @@
-"""Moving free nodes: the worst never worse, never non-convex, fixed nodes fixed, sliders on line."""
+"""Moving free nodes: the worst never worse, always convex, fixed nodes fixed, sliders on line."""
 
 from __future__ import annotations
 
