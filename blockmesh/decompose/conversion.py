@@ -87,13 +87,13 @@ def read_element_mesh(source: Any) -> Any:
 
     try:
         return blockmesh_io.read(path)
-    except (BlockMeshError, OSError, ValueError, KeyError, IndexError, TypeError):
-        pass
+    except (BlockMeshError, OSError, ValueError, KeyError, IndexError, TypeError, SystemExit):
+        pass  # not a file blockmesh wrote (meshio, under the VTU reader, may even exit)
     try:
         # meshio's Gmsh reader prints a blank line to stdout; the library stays quiet.
         with contextlib.redirect_stdout(io.StringIO()):
             return meshio.read(path)
-    except Exception as error:  # meshio raises many kinds for files it cannot parse
+    except (Exception, SystemExit) as error:  # meshio raises many kinds, and may even exit
         if path.suffix.lower() == ".msh":
             gmsh_mesh = _read_with_gmsh(path)
             if gmsh_mesh is not None:
@@ -205,6 +205,13 @@ def _from_pentagon_mesh(mesh: Any, name: str, description: str) -> Any:
 def _elements_of(mesh: Any) -> _Elements:
     """Planar points, 2-D elements in file order, named line groups and element groups."""
     out = _Elements()
+    for cells in mesh.cells:
+        known = cells.type in _TWO_D or cells.type in _LINES or cells.type in _POINTS
+        if not known and not cells.type.startswith("polygon"):
+            raise DomainError(
+                f"the mesh has {len(cells.data)} {cells.type} elements: blockmesh converts 2-D "
+                "meshes of triangles, quadrilaterals and polygons only (no 3-D elements)"
+            )
     points = np.asarray(mesh.points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] not in (2, 3) or points.shape[0] == 0:
         raise DomainFormatError(f"the mesh's points must be (n, 2) or (n, 3), got {points.shape}")
@@ -240,11 +247,6 @@ def _elements_of(mesh: Any) -> _Elements:
                     BlockMeshWarning,
                     stacklevel=4,
                 )
-        else:
-            raise DomainError(
-                f"the mesh has {len(data)} {kind} elements: blockmesh converts 2-D meshes of "
-                "triangles, quadrilaterals and polygons only (no 3-D elements)"
-            )
         for k, row in enumerate(data[:, :corners]):
             out.elements.append(np.asarray(row, dtype=np.int64))
             out.kind.append(kind)
