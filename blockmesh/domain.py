@@ -530,6 +530,42 @@ class Domain:
             {name: np.flatnonzero(self.region == k) for k, name in enumerate(self.region_names)}
         )
 
+    @property
+    def polygon_edges(self) -> Mapping[tuple[int, int], np.ndarray]:
+        """The block vertices along each polygon edge, by ``(ring, edge)`` (read-only view).
+
+        For a domain made from a polygon (see :attr:`boundary_source`): each chain lists the
+        vertex ids from one end of the polygon edge to the other, in the boundary's direction
+        (the domain on the left), so consecutive ids are boundary edges of the blocks. Empty for
+        a domain given as blocks. O(Eb log Eb).
+
+        Examples
+        --------
+        >>> d = Domain.from_polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+        >>> d.polygon_edges[(0, 0)].tolist()  # the bottom edge: corner 0, a node, corner 1
+        [0, 4, 1]
+        """
+        chains: dict[tuple[int, int], np.ndarray] = {}
+        known = self.boundary_source[:, 0] >= 0
+        if not known.any():
+            return MappingProxyType(chains)
+        keys = self.boundary_source[known, 0] * (self.boundary_edges.shape[0] + 1)
+        keys = keys + self.boundary_source[known, 1]
+        edges = self.boundary_edges[known]
+        order = np.argsort(keys, kind="stable")
+        keys, edges = keys[order], edges[order]
+        starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+        for lo, hi in zip(starts, np.r_[starts[1:], keys.size], strict=True):
+            run = edges[lo:hi]
+            following = dict(zip(run[:, 0].tolist(), run[:, 1].tolist(), strict=True))
+            first = next(a for a in following if a not in set(run[:, 1].tolist()))
+            chain = [first]
+            while chain[-1] in following:
+                chain.append(following[chain[-1]])
+            ring, edge = (int(x) for x in self.boundary_source[known][order][lo])
+            chains[(ring, edge)] = readonly(np.array(chain, dtype=np.int64), np.int64)
+        return MappingProxyType(chains)
+
     def block_graph(self):
         """The networkx graph of blocks and shared edges; see :mod:`blockmesh.blockgraph`."""
         from .blockgraph import block_graph
