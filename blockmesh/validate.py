@@ -286,14 +286,14 @@ def check_rings(
     >>> inner.input_edges(0)  # (1, 1) -> (1, 2) runs backwards along input edge 3
     [3]
     """
-    frame = local_frame(np.vstack(rings))
-    tol = _same_point_tol(frame)
     cleaned = []
     for r, ring in enumerate(rings):
-        pts = _drop_closing_vertex(np.asarray(ring, dtype=np.float64), r)
+        pts = _drop_closing_vertex(np.asarray(ring, dtype=np.float64).reshape(-1, 2), r)
         if len(pts) < 3:
             raise DomainError(f"{ring_label(r)} needs at least 3 vertices, got {len(pts)}")
         cleaned.append(pts)
+    frame = local_frame(np.vstack(cleaned))
+    tol = _same_point_tol(frame)
     local = [frame.to_local(p) for p in cleaned]
     _check_repeated_points(local, cleaned, tol)
     _check_crossings(local, cleaned, frame, tol)
