@@ -129,8 +129,11 @@ def improve_angles(
     block_of = order // 5
     first = np.searchsorted(corner_of[order], np.arange(n))
     count = np.bincount(corner_of, minlength=n)
-    ahead = np.roll(blocks, -1, axis=1).ravel()
-    pairs = np.unique(np.concatenate([corner_of * n + ahead, ahead * n + corner_of]))
+    # Neighbours only of the nodes that may move: the block edges of the blocks around them.
+    near_blocks = blocks[np.unique(block_of[_ranges(first[active], count[active])])]
+    tail = near_blocks.ravel()
+    ahead = np.roll(near_blocks, -1, axis=1).ravel()
+    pairs = np.unique(np.concatenate([tail * n + ahead, ahead * n + tail]))
     src, dst = np.divmod(pairs, n)
     degree = np.bincount(src, minlength=n)
     near_from = np.searchsorted(src, np.arange(n))

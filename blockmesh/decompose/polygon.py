@@ -119,17 +119,18 @@ def _triangulated(rings: list[np.ndarray], min_angle: float) -> Decomposition:
     offsets = np.concatenate([[0], np.cumsum(counts)])
     chains_of_segments = pentagons.side_chains(t.segments[:, 0], t.segments[:, 1])
     n_edges = int(offsets[-1])
-    ring_chains: list[np.ndarray] = []
     ring_points = np.vstack(rings)
+    # Sort the segments by ring edge, then along it (their start's distance from its corner).
+    nxt = np.array([_ring_next(e, offsets) for e in range(n_edges)], dtype=np.int64)
+    start = ring_points[t.segment_edge]
+    direction = ring_points[nxt[t.segment_edge]] - start
+    along = np.sum((t.points[t.segments[:, 0]] - start) * direction, axis=1)
+    order = np.lexsort((along, t.segment_edge))
+    bounds = np.searchsorted(t.segment_edge[order], np.arange(n_edges + 1))
+    ring_chains: list[np.ndarray] = []
     for edge in range(n_edges):
-        on = np.flatnonzero(t.segment_edge == edge)
-        start = ring_points[edge]
-        stop_id = _ring_next(edge, offsets)
-        direction = ring_points[stop_id] - start
-        along = (t.points[t.segments[on, 0]] - start) @ direction
-        ordered = chains_of_segments[on[np.argsort(along)]]
-        chain = np.concatenate([ordered[:, :3].ravel(), ordered[-1:, 3]])
-        ring_chains.append(chain)
+        ordered = chains_of_segments[order[bounds[edge] : bounds[edge + 1]]]
+        ring_chains.append(np.concatenate([ordered[:, :3].ravel(), ordered[-1:, 3]]))
     fixed, slide = _boundary_freedom(nodes, ring_chains, n_edges)
     nodes = improve_angles(nodes, blocks, fixed, slide=slide)
     per_ring = [ring_chains[offsets[r] : offsets[r + 1]] for r in range(len(rings))]
