@@ -7,7 +7,9 @@ quality triangulation, templates, node optimisation and the Domain's own check),
 worst block angles, and time per corner (flat means linear growth). In the same run, the peers
 on the same polygons: shapely's constrained Delaunay triangulation alone (no quality), Triangle
 ``pq30`` (quality triangulation, a C library) and gmsh's 2-D mesher, with their triangle counts;
-blockmesh's share of the time spent in its own triangulation is printed as well. Not a test:
+and Triangle's triangles through the 9-pentagon template (the by-construction alternative: its
+blocks and angles, no node moves); blockmesh's share of the time spent in its own triangulation is
+printed as well. Not a test:
 timings on shared machines are noisy; each figure is the best of a few runs after a warm-up.
 """
 
@@ -21,8 +23,9 @@ import numpy as np
 import shapely
 
 from blockmesh import Domain
+from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.decompose.triangulate import triangulate
-from blockmesh.geometry import local_frame
+from blockmesh.geometry import interior_angles, local_frame
 from blockmesh.validate import check_rings
 
 
@@ -100,7 +103,11 @@ def triangle_pq30(outer, holes, repeat):
     def run():
         out["t"] = triangle.triangulate(geometry, "pq30")
 
-    return best_of(run, repeat), len(out["t"]["triangles"])
+    seconds = best_of(run, repeat)
+    # The by-construction alternative: Triangle's triangles, each its 9-pentagon template.
+    pieces = pentagons_from_pieces(out["t"]["vertices"], [out["t"]["triangles"]])
+    angles = interior_angles(pieces.nodes[pieces.blocks])
+    return seconds, len(out["t"]["triangles"]), len(pieces.blocks), angles.min(), angles.max()
 
 
 def gmsh_mesh(outer, holes, repeat):
@@ -136,6 +143,11 @@ def gmsh_mesh(outer, holes, repeat):
     return best_of(run, repeat), out["n"]
 
 
+def _ms(seconds: float) -> str:
+    """Milliseconds with three significant digits."""
+    return f"{seconds * 1e3:#8.3g} ms"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="*", default=[50, 100, 200, 500, 1000, 2000])
@@ -145,7 +157,8 @@ def main() -> None:
     rows = []
     print(
         f"{'polygon':<22} {'corners':>7} {'time':>8} {'us/corner':>9} {'blocks':>7} "
-        f"{'angles':>15} {'own tri':>8} | {'shapely CDT':>16} {'Triangle pq30':>18} {'gmsh':>18}"
+        f"{'angles':>15} {'own tri':>8} | {'shapely CDT':>16} {'Triangle pq30':>18} "
+        f"{'pq30 + templates':>21} {'gmsh':>18}"
     )
     for name, outer, holes in cases(args.sizes):
         corners = len(outer) + sum(len(h) for h in holes)
@@ -160,12 +173,13 @@ def main() -> None:
         msh = gmsh_mesh(outer, holes, 1)
 
         def peer(result):
-            return "-" if result is None else f"{result[0] * 1e3:7.1f} ms {result[1]:>6} tri"
+            return "-" if result is None else f"{_ms(result[0])} {result[1]:>6} tri"
 
+        templated = "-" if tri is None else f"{tri[2]:>7} {tri[3]:5.1f}..{tri[4]:5.1f}°"
         print(
             f"{name:<22} {corners:>7} {seconds:>7.3f}s {seconds / corners * 1e6:>9.0f} "
             f"{d.n_blocks:>7} {angles.min():>6.1f}..{angles.max():>5.1f}° {own / seconds:>7.0%} | "
-            f"{cdt[0] * 1e3:7.1f} ms {cdt[1]:>5} {peer(tri):>18} {peer(msh):>18}"
+            f"{_ms(cdt[0])} {cdt[1]:>5} {peer(tri):>18} {templated:>21} {peer(msh):>18}"
         )
         rows.append((name, corners, seconds, d.n_blocks))
     star_rows = [r for r in rows if r[0].startswith("star, n")]
