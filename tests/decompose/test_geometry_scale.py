@@ -106,7 +106,7 @@ def test_reproducers_pass_blockmesh_check(capsys, polygon):
     assert "valid" in out
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(
     st.floats(0, 9),  # log10 of the aspect ratio
     st.floats(-2, 3),  # where the apex sits along the base (triangles), or the top's skew
