@@ -17,7 +17,8 @@ from typing import Any
 
 from ..domain import Domain
 from ..errors import BlockMeshError
-from ..io import SPLITS, format_for_path
+from ..improve import QUALITY_RULES, refine_with_rule
+from ..io import SPLITS, check_options, format_for_path
 from ..mesh import Mesh
 from ..refinement import NUMBERINGS, refine
 from ._common import (
@@ -63,17 +64,27 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (default 0)"
     )
     parser.add_argument(
+        "--quality-rule",
+        choices=QUALITY_RULES,
+        default="paper",
+        help="node placement: the paper's (default) or optimized after every level (every node "
+        "off the boundary moves, boundary nodes slide along it; see blockmesh.improve)",
+    )
+    parser.add_argument(
         "-o",
         "--output",
         metavar="PATH",
-        help="write the mesh; the format follows the extension (.vtu .xdmf .msh .mat .npz, or a "
-        "directory with --format openfoam); with several domains use {name}, e.g. 'out/{name}.vtu'",
+        help="write the mesh; the format follows the extension (.vtu .vtk .xdmf .msh .mat .npz, "
+        "or a directory with --format openfoam); with several domains use {name}, e.g. "
+        "'out/{name}.vtu'",
     )
     parser.add_argument(
         "--format", metavar="FORMAT", help="output format, overriding the extension"
     )
     parser.add_argument(
-        "--split", choices=SPLITS, help="how .msh output splits pentagons (gmsh has no pentagons)"
+        "--split",
+        choices=SPLITS,
+        help="how .msh output splits pentagons (gmsh has no pentagons; default tri5)",
     )
     parser.add_argument(
         "--compression",
@@ -103,11 +114,19 @@ def _mesh_one(
     started = time.perf_counter()
     mesh = refine(
         target,
-        options["level"],
+        options["level"] if options["quality_rule"] == "paper" else 0,
         smooth=options["smooth"],
         max_memory=options["max_memory"],
         progress=progress,
     )
+    if options["quality_rule"] != "paper":
+        mesh = refine_with_rule(
+            mesh,
+            options["level"],
+            rule=options["quality_rule"],
+            smooth=options["smooth"],
+            max_memory=options["max_memory"],
+        )
     seconds = time.perf_counter() - started
     bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
     if options["numbering"] == "rcm":
@@ -128,6 +147,7 @@ def _mesh_one(
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
+        "quality_rule": options["quality_rule"],
         "seconds": seconds,
         "plot": None,
         "quality_plot": None,
@@ -167,16 +187,14 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
     check_folders(args.output, args.plot, args.quality_plot)
     if args.output:
-        # Fail before meshing: an unknown format or a missing --split is known now.
+        # Fail before meshing: an unknown format or an option it does not take is known now.
         fmt = format_for_path(args.output, args.format)
-        if fmt.needs_split and args.split is None:
-            raise BlockMeshError(
-                f"{args.output}: gmsh .msh has no pentagons; choose --split tri5, tri3 or quad5"
-            )
+        check_options(fmt, split=args.split, compression=args.compression)
     return {
         "level": args.level,
         "numbering": args.numbering,
         "smooth": args.smooth,
+        "quality_rule": args.quality_rule,
         "max_memory": args.max_memory,
         "plot": args.plot,
         "quality_plot": args.quality_plot,
