@@ -50,6 +50,8 @@ from .templates import SQUARE_FACES, TRIANGLE_FACES, TRIANGLE_WEIGHTS, square_we
 
 __all__ = ["Decomposition", "decompose_convex_polygon"]
 
+#: Corners beyond which the exact chord programme (O(n^5)) is not used (see decompose_polygon).
+_CHORD_LIMIT = 16
 #: Points closer than this times the polygon's diameter count as the same point (as in domain
 #: validation); an edge that short breaks the input contract.
 _SAME_POINT = 1e-11
@@ -110,7 +112,10 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     -------
     Decomposition
         9 blocks for a triangle, 8 for a quadrilateral, the polygon itself for a pentagon and
-        ``ceil((n - 2) / 3)`` blocks for ``n >= 6`` (the minimum the angle sum allows).
+        ``ceil((n - 2) / 3)`` blocks for ``6 <= n <= 16`` (the minimum the angle sum allows).
+        Beyond 16 corners the chord programme's cost (and its long thin pieces) rule it out: the
+        polygon goes through :func:`blockmesh.decompose.decompose_polygon` (layout
+        ``"triangulation"``).
 
     Raises
     ------
@@ -144,6 +149,11 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     """
     p = _checked_polygon(polygon)
     n = len(p)
+    if n > _CHORD_LIMIT:
+        # The chord programme is O(n^5): beyond its limit the quality triangulation takes over.
+        from .polygon import decompose_polygon
+
+        return decompose_polygon([p])
     if n == 3:
         layout = _template_layout(p, TRIANGLE_WEIGHTS, TRIANGLE_FACES, "triangle-template")
     elif n == 4:

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..errors import DomainError, ResourceError
 from ..geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, local_frame
-from .convex import Decomposition, decompose_convex_polygon
+from .convex import _CHORD_LIMIT, Decomposition, decompose_convex_polygon
 from .merge import pair_triangles
 from .optimise import improve_angles
 from .pieces import pentagons_from_pieces
@@ -47,7 +47,7 @@ from .triangulate import DEFAULT_MIN_ANGLE, triangulate
 __all__ = ["CONVEX_LIMIT", "CONVEX_MIN_ANGLE", "MAX_CORNERS", "decompose_polygon"]
 
 #: Strictly convex polygons (no holes) with at most this many corners get the exact layouts.
-CONVEX_LIMIT = 16
+CONVEX_LIMIT = _CHORD_LIMIT
 #: Exact convex layouts with a worst angle below this (degrees) are compared with the general route.
 CONVEX_MIN_ANGLE = 20.0
 #: Most ring corners accepted (the decomposition is near-linear; this bounds memory and time).

@@ -335,3 +335,18 @@ def test_fallback_to_one_more_piece(monkeypatch: pytest.MonkeyPatch) -> None:
     assert len(decompose_convex_polygon(regular(8)).blocks) == 3
     with pytest.raises(DomainError, match="too thin"):
         decompose_convex_polygon(regular(7))  # no 3-piece layout either
+
+
+@pytest.mark.parametrize("n", [17, 64, 96])
+def test_large_convex_polygons_leave_the_chord_programme(n: int) -> None:
+    # The O(n^5) programme took 14 s for a 64-gon and 197 s for a 96-gon, with thin pieces;
+    # beyond 16 corners the quality triangulation takes over.
+    polygon = regular(n)
+    d = decompose_convex_polygon(polygon)
+    assert d.layout == "triangulation"
+    assert np.array_equal(d.vertices[:n], polygon)
+    assert np.all(is_strictly_convex(d.vertices[d.blocks]))
+    assert signed_area(d.vertices[d.blocks]).sum() == pytest.approx(signed_area(polygon), rel=1e-12)
+    assert d.min_angle > 30.0
+    for i, chain in enumerate(d.edge_chains):
+        assert chain[0] == i and chain[-1] == (i + 1) % n
