@@ -89,7 +89,9 @@ def triangulate(
     min_angle : float
         Target smallest angle in degrees (at most 33; 0 skips the refinement).
     max_points : int, optional
-        Most points to add; by default ``10 * n + 500`` for ``n`` ring vertices.
+        Most points to add; by default ``20 * n + 2000`` for ``n`` ring vertices (ordinary
+        polygons need far fewer; the budget bounds the work on thin gaps and slivers, which are
+        repaired worst first and otherwise left valid but thin).
 
     Returns
     -------
@@ -108,7 +110,7 @@ def triangulate(
         [s + (np.arange(c) + 1) % c for s, c in zip(start, counts, strict=True)]
     )
     triangles = _constrained_triangles(rings, points)
-    budget = 10 * len(points) + 500 if max_points is None else int(max_points)
+    budget = 20 * len(points) + 2000 if max_points is None else int(max_points)
     refiner = _Refiner(points, triangles, edge_a, edge_b)
     if min_angle > 0 and budget > 0:
         refiner.refine(min(float(min_angle), 33.0), budget)
