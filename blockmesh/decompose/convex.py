@@ -1,7 +1,7 @@
 """Decompose a convex polygon into strictly convex pentagons that meet edge to edge.
 
 A convex n-gon becomes a conforming block mesh of strictly convex, counter-clockwise pentagons
-(MATH.md section 4):
+(``docs/mathematics.md`` §4):
 
 - ``n = 5``: the polygon itself (layout ``"pentagon"``);
 - ``n = 3``: a 9-pentagon template in barycentric coordinates, mapped affinely

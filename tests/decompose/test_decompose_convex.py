@@ -203,7 +203,7 @@ def test_near_degenerate_triangles_and_quads(polygon: np.ndarray) -> None:
 
 
 def test_regular_12gon_prefers_the_star() -> None:
-    # MATH.md section 4: worst created angle 45 degrees with chords, 75 with the star.
+    # docs/mathematics.md §4: worst created angle 45 degrees with chords, 75 with the star.
     polygon = regular(12)
     d = decompose_convex_polygon(polygon)
     assert_valid(polygon, d)

@@ -112,8 +112,8 @@ def test_refinement_invariants_on_random_domains(case):
 
 
 def test_l_shape_with_two_holes_quality():
-    # The shape of MATH.md's measurement: the constrained triangulation alone has 10.9-degree
-    # slivers; refined, paired and optimised, every block angle is within 30..160 degrees.
+    # The shape measured when the issue was filed: the constrained triangulation alone has
+    # 10.9-degree slivers; refined, paired and optimised, every block angle is within 30..160.
     outer = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
     holes = [[(0.3, 0.3), (0.6, 0.3), (0.6, 0.6), (0.3, 0.6)], [(1.3, 0.4), (1.7, 0.4), (1.5, 0.7)]]
     domain = Domain.from_polygon(outer, holes)
