@@ -734,6 +734,36 @@ def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
     return readonly(array, np.int64)
 
 
+def _whole(value: object) -> bool:
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _source_table(raw: Any) -> dict[tuple[int, int], tuple[int, int]] | None:
+    """The ``boundary_source`` rows of a domain file, ``[a, b, ring, edge]`` each."""
+    if raw is None:
+        return None
+    table = {}
+    for k, row in enumerate(raw):
+        if not isinstance(row, list) or len(row) != 4 or not all(_whole(v) for v in row):
+            raise DomainFormatError(
+                f"boundary_source row {k} is {row!r}: each row is [a, b, ring, edge], whole numbers"
+            )
+        table[(int(row[0]), int(row[1]))] = (int(row[2]), int(row[3]))
+    return table
+
+
+def _source_list(raw: Any) -> np.ndarray | None:
+    """The ``block_source`` list of a domain file: one whole number per block."""
+    if raw is None:
+        return None
+    bad = [k for k, v in enumerate(raw) if not _whole(v) or not -1 <= int(v) < 2**62]
+    if bad:
+        raise DomainFormatError(
+            f"block_source entry {bad[0]} is {raw[bad[0]]!r}: one element number (or -1) per block"
+        )
+    return np.array(raw, dtype=np.int64)
+
+
 def _block_source(source: Any, n_blocks: int) -> np.ndarray:
     if source is None or source is MISSING or np.size(source) == 0:
         return readonly(np.full(n_blocks, -1, dtype=np.int64), np.int64)
@@ -806,6 +836,8 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
             raw.get("regions"),
             name=name,
             description=description,
+            boundary_source=_source_table(raw.get("boundary_source")),
+            block_source=_source_list(raw.get("block_source")),
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None

@@ -42,6 +42,8 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .errors import DomainFormatError
 
 __all__ = [
@@ -72,6 +74,8 @@ ALLOWED_KEYS = {
     "blocks": "pentagons as 5 vertex ids each, [[a, b, c, d, e], ...]",
     "patches": "a table: patch name = list of edges",
     "regions": "a table: region name = list of block ids",
+    "boundary_source": "the polygon edge each boundary edge lies on, [[a, b, ring, edge], ...]",
+    "block_source": "the mesh element each block came from, [e0, e1, ...]",
 }
 
 
@@ -238,7 +242,7 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
             raise DomainFormatError(
                 f"{source}: key {key!r} must be a string, got {_toml_type(raw[key])}"
             )
-    for key in ("polygon", "holes", "vertices", "blocks"):
+    for key in ("polygon", "holes", "vertices", "blocks", "boundary_source", "block_source"):
         if key in raw and not isinstance(raw[key], list):
             raise DomainFormatError(
                 f"{source}: key {key!r} must be a list ({ALLOWED_KEYS[key]}), got "
@@ -275,6 +279,11 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
             f"{source}: 'holes' belong to a 'polygon'; with explicit blocks, leave the holes' "
             "area without blocks"
         )
+    for key in ("boundary_source", "block_source"):
+        if key in raw and not has_blocks:
+            raise DomainFormatError(
+                f"{source}: {key!r} belongs to explicit blocks (blockmesh writes it with them)"
+            )
     if has_polygon and "regions" in raw:
         raise DomainFormatError(
             f"{source}: 'regions' needs explicit blocks; a polygon is decomposed automatically"
@@ -313,6 +322,18 @@ def dumps_domain(domain) -> str:
     lines.append("blocks = [")
     lines += [f"  [{', '.join(str(int(v)) for v in block)}]," for block in domain.blocks]
     lines.append("]")
+    known = np.flatnonzero(domain.boundary_source[:, 0] >= 0)
+    if known.size:
+        lines.append("boundary_source = [  # [a, b, ring, edge]: boundary edge (a, b) on that edge")
+        lines += [
+            f"  [{int(a)}, {int(b)}, {int(r)}, {int(e)}],"
+            for (a, b), (r, e) in zip(
+                domain.boundary_edges[known], domain.boundary_source[known], strict=True
+            )
+        ]
+        lines.append("]")
+    if np.any(domain.block_source >= 0):
+        lines.append(f"block_source = [{', '.join(str(int(k)) for k in domain.block_source)}]")
     lines.append("")
     lines.append("[patches]")
     for name, edges in domain.patches.items():

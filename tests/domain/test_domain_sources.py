@@ -302,3 +302,30 @@ def test_blocks_made_apart_are_glued_with_merge_tol():
     assert domain.vertices[domain.patches["near"]].tolist() == [[[0.0, 2.0], [0.0, 0.0]]]
     with pytest.raises(DomainFormatError, match="merge_tol must be a distance >= 0"):
         Domain.from_blocks(vertices, blocks, merge_tol=-1.0)
+
+
+def test_toml_keeps_the_correspondence_and_the_element_sources(tmp_path):
+    import meshio
+
+    plate = Domain.from_polygon(PLATE, [HOLE], patches={"cylinder": ["hole 0"]})
+    again = blockmesh.load_domain(plate.write_toml(tmp_path / "plate.toml"))
+    assert np.array_equal(again.boundary_source, plate.boundary_source)
+    assert {k: v.tolist() for k, v in again.polygon_edges.items()} == {
+        k: v.tolist() for k, v in plate.polygon_edges.items()
+    }
+    square = meshio.Mesh(
+        np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]]), [("quad", np.array([[0, 1, 2, 3]]))]
+    )
+    converted = Domain.from_mesh(square)
+    assert np.array_equal(
+        Domain.from_toml_text(converted.to_toml()).block_source, converted.block_source
+    )
+    sp = "vertices = [[-1, -1], [1, -1], [2, 0], [0, 1], [-2, 0]]\nblocks = [[0, 1, 2, 3, 4]]\n"
+    with pytest.raises(
+        DomainError, match=r"block_source must have one entry per block, shape \(1,\)"
+    ):
+        Domain.from_toml_text(sp + "block_source = [0, 1]")
+    with pytest.raises(DomainFormatError, match=r"boundary_source row 0 is \[0, 1, 2\]"):
+        Domain.from_toml_text(sp + "boundary_source = [[0, 1, 2]]")
+    with pytest.raises(DomainFormatError, match="'block_source' belongs to explicit blocks"):
+        Domain.from_toml_text("polygon = [[0, 0], [1, 0], [0, 1]]\nblock_source = [0]")
