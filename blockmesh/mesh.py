@@ -23,7 +23,7 @@ import numpy as np
 from .curves import CurvedEdges
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
 from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
-from .topology import boundary_of_cells, boundary_slots, cell_neighbours, unique_edges
+from .topology import boundary_of_cells, check_boundary, unique_edges
 
 __all__ = ["Mesh", "MeshQuality"]
 
@@ -240,8 +240,7 @@ class Mesh:
                     f"cell {bad} (nodes {', '.join(map(str, self.cells[bad]))}) is clockwise or "
                     "has no area; cells run counter-clockwise"
                 )
-        neighbour = cell_neighbours(self.cells, self.n_points)
-        boundary_slots(self.cells, neighbour, self.boundary_edges, self.n_points)
+        check_boundary(self.cells, self.boundary_edges, self.n_points)
 
     @classmethod
     def from_cells(

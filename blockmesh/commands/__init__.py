@@ -7,8 +7,8 @@ parser's default, and ``run(args) -> int``. Shared options and output helpers ar
 
 from __future__ import annotations
 
-from . import catalogue, check, integrate, mesh, show, solve, tables
+from . import catalogue, check, convert, integrate, mesh, show, solve, tables
 
-COMMANDS = (catalogue, check, show, mesh, integrate, solve, tables)
+COMMANDS = (catalogue, check, show, mesh, integrate, solve, convert, tables)
 
 __all__ = ["COMMANDS"]

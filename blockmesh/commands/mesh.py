@@ -308,7 +308,15 @@ def run(args: argparse.Namespace) -> int:
         domains = _expand(args.domain)
     if len(domains) > 1:
         return _run_batch(domains, options, args)
-    target = inline_polygon(args.polygon) if args.polygon is not None else load_target(domains[0])
+    if args.hole and args.polygon is None:
+        raise BlockMeshError(
+            '--hole adds a hole to --polygon "x1,y1 x2,y2 ..."; give --polygon too'
+        )
+    target = (
+        inline_polygon(args.polygon, args.hole)
+        if args.polygon is not None
+        else load_target(domains[0])
+    )
     bar = ProgressBar(f"{printable(target.name)}: refining", enabled=ProgressBar.wanted(args))
     report = _mesh_one(target, options, args.output, progress=bar)
     if args.json:

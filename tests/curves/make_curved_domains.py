@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from blockmesh.curved_refinement import curved_block_levels
-from blockmesh.decompose import _SQUARE_FACES, _SQUARE_NODES
+from blockmesh.decompose.templates import SQUARE_FACES as _SQUARE_FACES
+from blockmesh.decompose.templates import SQUARE_NODES as _SQUARE_NODES
 from blockmesh.geometry import interior_angles
 from blockmesh.template import pentagon_template
 
