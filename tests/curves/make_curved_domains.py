@@ -10,7 +10,8 @@
   §4) under the transfinite (Coons) map of the unit square onto the curved quadrilateral;
 - the channel behind the cylinder: rectangles of the quadrilateral template, turned so that its
   sides with one node face each other (the nodes meet at mid-height);
-- ``disc``: a central pentagon, five pentagons around it and five on the circle, one arc each.
+- ``disc``: a central pentagon, five pentagons around it and five on the circle, one arc each
+  (:func:`blockmesh.curved_polygons.disc_layout`, which ``Domain.from_circle`` uses too).
 
 The free parameters (the ring's radii, the template's inner nodes) maximise the smallest angle of
 the curved refinement at a few levels; ``--optimise`` searches them again (Nelder-Mead) and
@@ -27,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blockmesh.curved_polygons import disc_layout
 from blockmesh.curved_refinement import curved_block_levels
 from blockmesh.decompose.templates import SQUARE_FACES as _SQUARE_FACES
 from blockmesh.decompose.templates import SQUARE_NODES as _SQUARE_NODES
@@ -327,24 +329,14 @@ def cylinder_channel(fractions=(0.35, 0.35)) -> Layout:
     return layout
 
 
-def disc(radii=(0.25, 0.43, 0.7), turn=0.0) -> Layout:
-    """The unit disc: a central pentagon (corners at radius ``radii[0]``), five pentagons around it
-    and five on the circle (inner corners at ``radii[1]`` and ``radii[2]``), one arc each."""
+def disc(radii=(0.25, 0.43, 0.7)) -> Layout:
+    """The unit disc: :func:`blockmesh.curved_polygons.disc_layout` (11 blocks, 5 arcs)."""
+    vertices, blocks, arcs, boundary = disc_layout((0.0, 0.0), 1.0, radii)
     layout = Layout()
-    rc, rz, ry = radii
-    beta = math.pi / 2 + 2 * math.pi * np.arange(5) / 5
-    step = math.pi / 5
-    o = [layout.vertex(_e(b)) for b in beta]
-    y = [layout.vertex(ry * _e(b)) for b in beta]
-    z = [layout.vertex(rz * _e(b + step + turn)) for b in beta]
-    c = [layout.vertex(rc * _e(b + step + turn)) for b in beta]
-    for k in range(5):
-        n = (k + 1) % 5
-        layout.blocks.append([y[k], o[k], o[n], y[n], z[k]])
-        layout.blocks.append([c[k], z[k], y[n], z[n], c[n]])
-        layout.arcs[(o[k], o[n])] = (0.0, 0.0)
-        layout.patches.setdefault("boundary", []).append((o[k], o[n]))
-    layout.blocks.append(c)
+    layout.vertices = list(vertices)
+    layout.blocks = blocks
+    layout.arcs = {key: arc.center for key, arc in arcs.items()}  # type: ignore[misc]
+    layout.patches = {"boundary": boundary}
     return layout
 
 
@@ -377,7 +369,7 @@ def _search(name: str) -> None:
         print(name, np.round(nodes[INNER], 6).tolist(), worst_angles(quarter_plate_hole(nodes)))
         return
     builder = DOMAINS_BUILT[name][1]
-    start = {"disc": [0.2, 0.35, 0.53]}.get(name, [0.4, 0.5])
+    start = {"disc": [0.25, 0.43, 0.7]}.get(name, [0.4, 0.5])
 
     def cost(x):
         try:
