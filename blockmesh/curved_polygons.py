@@ -96,7 +96,11 @@ def _circle_fields(circle: object, what: str) -> tuple[tuple[float, float], floa
     if not (math.isfinite(float(radius)) and float(radius) > 0):
         raise DomainError(f"{what}'s radius must be a finite number > 0, got {radius!r}")
     sides = circle.get("sides", CIRCLE_SIDES)
-    if isinstance(sides, bool) or not isinstance(sides, numbers.Integral) or not 3 <= sides <= 64:
+    if (
+        isinstance(sides, bool)
+        or not isinstance(sides, numbers.Integral)
+        or not 3 <= int(sides) <= 64
+    ):
         raise DomainFormatError(f"{what}'s sides must be a whole number in 3..64, got {sides!r}")
     patch = circle.get("patch")
     if patch is not None and not isinstance(patch, str):
@@ -167,10 +171,10 @@ def curved_polygon(
     curves: dict[tuple[int, int], Curve] = {}
     sampled: list[list[np.ndarray]] = []
     pieces: list[list[tuple[int, float, float]]] = []  # per new edge: (input edge, t0, t1)
-    for r, ring in enumerate(rings):
+    for r, given in enumerate(rings):
         corners, origin = [], []
-        for e in range(len(ring)):
-            p, q = ring[e], ring[(e + 1) % len(ring)]
+        for e in range(len(given)):
+            p, q = given[e], given[(e + 1) % len(given)]
             if (r, e) not in shapes:
                 corners.append(p)
                 origin.append((e, 0.0, 1.0))
