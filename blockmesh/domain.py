@@ -30,6 +30,8 @@ from typing import Any
 import numpy as np
 
 from .checks import readonly
+from .curve_checks import check_curved_blocks, curved_edges, resolve_curves
+from .curves import Curve
 from .errors import ArgumentTypeError, DomainError, DomainFormatError, TopologyError
 from .geometry import interior_angles, signed_area
 from .mesh import Mesh
@@ -89,6 +91,9 @@ class Domain:
     block_source : ndarray (B,) int64
         For a domain converted from a mesh (:meth:`from_mesh`), the element each block came
         from (its index among the mesh's 2-D elements in file order); -1 otherwise.
+    curves : mapping of (a, b) to Curve
+        The curved block edges (read-only view): each curve runs from vertex ``a`` to vertex
+        ``b`` (:mod:`blockmesh.curves`); empty when every edge is straight.
     """
 
     name: str
@@ -103,6 +108,7 @@ class Domain:
     layout: str = "blocks"
     boundary_source: np.ndarray = field(default_factory=_no_source, repr=False)
     block_source: np.ndarray = field(default_factory=_no_source, repr=False)
+    curves: Mapping[tuple[int, int], Curve] = field(default_factory=dict)
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
@@ -128,6 +134,7 @@ class Domain:
             (region >= 0) & (region < len(self.region_names))
         ):
             raise DomainError("every block needs one region (an index into region_names)")
+        object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
         self._store(vertices, blocks, boundary, patch, region, neighbour)
 
     def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
@@ -142,6 +149,7 @@ class Domain:
         set_(self, "_neighbour", readonly(neighbour, np.int64))
         set_(self, "boundary_source", _boundary_source(self.boundary_source, boundary.shape[0]))
         set_(self, "block_source", _block_source(self.block_source, blocks.shape[0]))
+        set_(self, "curves", MappingProxyType(dict(self.curves)))
 
     @classmethod
     def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
@@ -175,6 +183,7 @@ class Domain:
         merge_tol: float | None = None,
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
         block_source: Any = None,
+        edges: Mapping[tuple[int, int], Curve] | None = None,
     ) -> Domain:
         """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
 
@@ -199,6 +208,12 @@ class Domain:
         block_source : sequence of int, optional
             The source element of each block (see :attr:`block_source`); used by
             :meth:`from_mesh`.
+        edges : mapping of (a, b) to a curve, optional
+            Curved block edges: the curve (:class:`~blockmesh.curves.Arc`,
+            :class:`~blockmesh.curves.Spline` or :class:`~blockmesh.curves.Polyline`) replaces
+            the straight edge from vertex ``a`` to vertex ``b`` (ids as given, before any
+            merge). The blocks must stay strictly convex with their curves when refined
+            (:mod:`blockmesh.curve_checks`).
 
         Examples
         --------
@@ -219,11 +234,23 @@ class Domain:
         ... )
         >>> d.n_vertices, d.n_shared_edges
         (8, 1)
+
+        A curved edge:
+
+        >>> from blockmesh.curves import Arc
+        >>> curved = Domain.from_blocks(
+        ...     [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2)], [(0, 1, 2, 3, 4)],
+        ...     edges={(0, 1): Arc(through=(1, -0.3))},
+        ... )
+        >>> round(curved.area, 6)  # the pentagon's 4.5 and the circular segment below edge 0
+        4.90711
         """
         points = parse_points(vertices, "vertex")
         block_ids = parse_blocks(blocks, points.shape[0])
         if merge_tol is not None:
+            given = points
             points, block_ids, patches = _merged(points, block_ids, patches, merge_tol)
+            edges = _merged_edges(edges, given, points)
         return cls._from_parsed(
             points,
             block_ids,
@@ -234,6 +261,7 @@ class Domain:
             layout=layout,
             boundary_source=boundary_source,
             block_source=block_source,
+            edges=edges,
         )
 
     @classmethod
@@ -247,6 +275,7 @@ class Domain:
         made_for: str | None = None,
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
         block_source: Any = None,
+        edges: Mapping[tuple[int, int], Curve] | None = None,
         **text: str,
     ) -> Domain:
         """Check parsed blocks and build the Domain.
@@ -271,6 +300,7 @@ class Domain:
         boundary = boundary_loops(block_ids, neighbour)
         patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
+        curves = _checked_curves(points, block_ids, edges)
         source = None
         if boundary_source is not None:
             source = np.array(
@@ -291,6 +321,7 @@ class Domain:
             layout=text.get("layout", "blocks"),
             boundary_source=source,
             block_source=block_source,
+            curves=curves,
         )
 
     @classmethod
@@ -302,6 +333,8 @@ class Domain:
         name: str = "polygon",
         patches: Mapping[str, Iterable[int | str]] | None = None,
         description: str = "",
+        arcs: Mapping[int | str, Curve] | None = None,
+        circles: Iterable[Mapping[str, Any]] | None = None,
     ) -> Domain:
         """Any simple polygon, convex or not, with any number of holes, decomposed into blocks.
 
@@ -317,6 +350,13 @@ class Domain:
             An integer ``i`` is edge ``i`` of the outer boundary (from corner ``i`` to
             ``i + 1`` as given); ``"hole K"`` is every edge of hole ``K`` (0-based);
             ``"hole K:E"`` is edge ``E`` of hole ``K``. Unlisted edges go to ``"boundary"``.
+        arcs : mapping of edge to Arc, optional
+            Polygon edges that are circular arcs: edge ``i`` of the outer boundary, or
+            ``"hole K:E"``, to an :class:`~blockmesh.curves.Arc` (``through`` or ``center``).
+        circles : sequence of mappings, optional
+            Circular holes, each ``{"center": (x, y), "radius": r}`` with optionally
+            ``"patch"`` (a patch name) and ``"sides"`` (of the inscribed polygon decomposed,
+            default 8); they are numbered after the ``holes``.
 
         Notes
         -----
@@ -338,6 +378,13 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
+        if arcs or circles:  # decomposed through the chords, then curved: blockmesh.curved_polygons
+            from .curved_polygons import curved_polygon
+
+            return curved_polygon(
+                cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
+                description=description,
+            )  # fmt: skip
         from .decompose import decompose_polygon
 
         given = [parse_points(coords, "polygon vertex")]
@@ -370,6 +417,28 @@ class Domain:
             layout=decomposition.layout,
             boundary_source=source,
         )
+
+    @classmethod
+    def from_circle(
+        cls,
+        center: Any,
+        radius: float,
+        *,
+        name: str = "circle",
+        patch: str = "boundary",
+        description: str = "",
+    ) -> Domain:
+        """A disc of 11 blocks with 5 arcs (:func:`blockmesh.curved_polygons.disc_layout`).
+
+        Examples
+        --------
+        >>> d = Domain.from_circle((1, 2), 0.5, patch="wall")
+        >>> d.n_blocks, d.patch_names, round(d.area, 14) == round(3.141592653589793 / 4, 14)
+        (11, ('wall',), True)
+        """
+        from .curved_polygons import circle_domain
+
+        return circle_domain(cls, center, radius, name=name, patch=patch, description=description)
 
     @classmethod
     def from_shapely(
@@ -501,8 +570,13 @@ class Domain:
         return float(np.sum(self.block_areas()))
 
     def block_areas(self) -> np.ndarray:
-        """Area of each block, shape (B,)."""
-        return signed_area(self.vertices[self.blocks])
+        """Area of each block, shape (B,), bounded by its curved edges where it has any."""
+        areas = signed_area(self.vertices[self.blocks])
+        if self.curves:
+            from .curved_quadrature import area_corrections
+
+            areas = areas + area_corrections(self.blocks, self.n_vertices, self.block_mesh().curves)
+        return areas
 
     def block_angles(self) -> np.ndarray:
         """Interior angles of each block in degrees, shape (B, 5)."""
@@ -588,6 +662,7 @@ class Domain:
             region_names=self.region_names,
             level=0,
             name=self.name,
+            curves=curved_edges(self.curves),
         )
 
     def mesh(self, level: int, **options: Any) -> Mesh:
@@ -610,6 +685,33 @@ def _check_text(value: object, what: str) -> str:
                 f"{position}; use printable text"
             )
     return value
+
+
+def _checked_curves(
+    vertices: np.ndarray, blocks: np.ndarray, edges: Mapping | None
+) -> dict[tuple[int, int], Curve]:
+    """The curves of ``edges`` bound to their vertices, after the blocks are checked with them."""
+    curves = resolve_curves(vertices, blocks, edges)
+    check_curved_blocks(vertices, blocks, curves)
+    return curves
+
+
+def _merged_edges(edges: Any, given: np.ndarray, merged: np.ndarray) -> Any:
+    """``edges`` keyed by the vertex ids after a merge (each vertex finds its merged point)."""
+    if not edges or not isinstance(edges, Mapping):
+        return edges
+    from scipy.spatial import cKDTree
+
+    _, new_id = cKDTree(merged).query(given)
+    out = {}
+    for key, curve in edges.items():
+        try:
+            a, b = (int(new_id[int(v)]) for v in key)
+        except (TypeError, ValueError, IndexError):
+            out[key] = curve  # resolve_curves names the bad key
+            continue
+        out[(a, b)] = curve
+    return out
 
 
 def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
@@ -821,6 +923,15 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
     name = raw.get("name", "domain")
     description = raw.get("description", "")
     try:
+        if "circle" in raw:
+            circle = raw["circle"]
+            return Domain.from_circle(
+                circle["center"],
+                circle["radius"],
+                name=name,
+                patch=circle.get("patch", "boundary"),
+                description=description,
+            )
         if "polygon" in raw:
             return Domain.from_polygon(
                 raw["polygon"],
@@ -828,6 +939,8 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
                 name=name,
                 patches=raw.get("patches"),
                 description=description,
+                arcs=raw.get("arcs"),
+                circles=raw.get("circles"),
             )
         return Domain.from_blocks(
             raw["vertices"],
@@ -838,6 +951,7 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
             description=description,
             boundary_source=_source_table(raw.get("boundary_source")),
             block_source=_source_list(raw.get("block_source")),
+            edges=raw.get("edges"),
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None

@@ -61,8 +61,10 @@ def exact_integral(
     ----------
     target : Domain, Mesh or array_like (K, 2)
         A Domain or Mesh is integrated over through its boundary edges (holes and several
-        blocks included); a sequence of corners is one simple polygon (either orientation).
-        Corners may be ints, floats (converted exactly), Fractions, Decimals or decimal strings.
+        blocks included), along its curves where it has curved edges
+        (:mod:`blockmesh.curved_exact`: closed forms; a float result when there are arcs); a
+        sequence of corners is one simple polygon (either orientation). Corners may be ints,
+        floats (converted exactly), Fractions, Decimals or decimal strings.
     polynomial : str, Expression or mapping
         See :func:`~blockmesh.polynomial.as_polynomial`.
     max_work : int
@@ -96,6 +98,9 @@ def exact_integral(
     """
     budget = whole_number(max_work, "max_work", minimum=1)
     poly = as_polynomial(polynomial)
+    curved = _with_curves(target)
+    if curved is not None:  # curved edges: closed forms along the curves (blockmesh.curved_exact)
+        return _curved(curved, poly, budget)
     edges = _boundary_edges(target)
     work = len(edges) * sum((a + 1) * (b + 1) for a, b in poly)
     if work > budget:
@@ -118,6 +123,34 @@ def exact_integral(
             "the exact integral is beyond the float64 range (about 1.8e308); with a float "
             "coefficient (pi, e, sqrt(...)) the result is a float"
         ) from None
+
+
+def _with_curves(target: object) -> Mesh | None:
+    """The mesh to integrate over when ``target`` is a Domain or Mesh with curved edges."""
+    mesh = target.block_mesh() if isinstance(target, Domain) else target
+    if isinstance(mesh, Mesh) and mesh.curves is not None and len(mesh.curves):
+        return mesh
+    return None
+
+
+def _curved(mesh: Mesh, poly, budget: int) -> Fraction | float:
+    from .curved_exact import curved_exact_integral
+
+    edges = mesh.boundary_edges.shape[0]
+    work = edges * sum((a + 2) * (b + 1) for a, b in poly) * 4
+    if work > budget:
+        raise ResourceError(
+            f"the exact integral takes about {work:,} big-integer steps ({edges:,} boundary "
+            f"edges with curves, {len(poly):,} monomials), above max_work={budget:,}; integrate "
+            "numerically instead (exact_geometry=True), or raise max_work"
+        )
+    total, rational = curved_exact_integral(mesh, {k: Fraction(c) for k, c in poly.items()})
+    if rational and all(isinstance(c, Fraction) for c in poly.values()):
+        return total
+    try:
+        return float(total)
+    except OverflowError:
+        raise ExpressionError("the exact integral is beyond the float64 range") from None
 
 
 # --------------------------------------------------------------------------- boundary edges

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .curves import CurvedEdges
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
 from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
 from .topology import boundary_of_cells, check_boundary, unique_edges
@@ -122,6 +123,11 @@ class Mesh:
         Refinement level (0 = the block mesh).
     name : str
         Name of the domain the mesh was made from.
+    curves : CurvedEdges or None
+        The edges that lie on curved block edges, with the curve and the stretch of its parameter
+        each covers (:class:`blockmesh.curves.CurvedEdges`); None when every edge is straight.
+        A Domain with curves passes them to its block mesh and :func:`blockmesh.refine` carries
+        them to every level; writers ignore them (the nodes are already on the curves).
     """
 
     points: np.ndarray
@@ -135,6 +141,7 @@ class Mesh:
     region_names: tuple[str, ...]
     level: int = 0
     name: str = ""
+    curves: CurvedEdges | None = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -181,6 +188,10 @@ class Mesh:
         set_(self, "level", int(self.level))
         if not isinstance(self.name, str):
             raise ArgumentTypeError(f"Mesh name must be a string, got {self.name!r}")
+        if self.curves is not None and not isinstance(self.curves, CurvedEdges):
+            raise ArgumentTypeError(
+                f"Mesh curves must be a blockmesh.curves.CurvedEdges or None, got {self.curves!r}"
+            )
 
     def _check_arrays(self) -> None:
         """Shapes, lengths and index ranges: O(M), always checked."""
@@ -197,6 +208,8 @@ class Mesh:
         points_note = f"there are {n} points"
         _check_range(self.cells, 0, n, "cell", points_note)
         _check_range(self.boundary_edges, 0, n, "boundary edge", points_note)
+        if self.curves is not None:
+            _check_range(self.curves.edges, 0, n, "curved edge", points_note)
         _check_range(self.block_id, 0, np.iinfo(np.int64).max, "block_id of cell", "ids are >= 0")
         _check_range(self.parent, -1, np.iinfo(np.int64).max, "parent of cell", "ids are >= -1")
         _check_range(
@@ -317,6 +330,31 @@ class Mesh:
         """Total area of the mesh (sum of cell areas)."""
         return float(np.sum(self.cell_areas()))
 
+    def curved_cell_areas(self) -> np.ndarray:
+        """Area of every cell bounded by its curved edges (the exact geometry), shape (M,).
+
+        A cell's straight area plus the signed area between each of its curved edges and the
+        chord (closed forms; see :mod:`blockmesh.curved_quadrature`). Equals
+        :meth:`cell_areas` when the mesh has no curves.
+        """
+        from .curved_quadrature import cell_areas
+
+        return cell_areas(self)
+
+    @property
+    def curved_area(self) -> float:
+        """Total area of the mesh bounded by its curved edges (its :attr:`area` without curves).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> disc = blockmesh.load_domain("disc")
+        >>> mesh = disc.mesh(2)
+        >>> round(mesh.curved_area, 12), mesh.area < mesh.curved_area
+        (3.14159265359, True)
+        """
+        return float(np.sum(self.curved_cell_areas()))
+
     # --------------------------------------------------------------- quality
     def quality(self, *, chunk: int = 1 << 18) -> MeshQuality:
         """Angles, aspect ratios and areas of the cells, in chunks (bounded memory).
@@ -416,6 +454,7 @@ class Mesh:
             points=self.points[order],
             cells=new_id[self.cells],
             boundary_edges=new_id[self.boundary_edges],
+            curves=None if self.curves is None else self.curves.renumbered(new_id),
         )
 
     def with_rcm_numbering(self) -> Mesh:

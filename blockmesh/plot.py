@@ -50,12 +50,15 @@ def save_figure(fig, path: str | Path, *, dpi: int = 150) -> Path:
     return path
 
 
-def _draw_patches(ax, points, edges, patch, names) -> None:
+def _draw_patches(ax, points, edges, patch, names, curves=None) -> None:
     from matplotlib.collections import LineCollection
 
     for k, name in enumerate(names):
-        segments = points[edges[patch == k]]
-        if segments.size:
+        mine = edges[patch == k]
+        segments = (
+            points[mine] if not curves else [_edge_path(points, a, b, curves) for a, b in mine]
+        )
+        if len(segments):
             colour = _PATCH_COLOURS[k % len(_PATCH_COLOURS)]
             ax.add_collection(LineCollection(segments, colors=colour, linewidths=2.5, label=name))
 
@@ -69,6 +72,32 @@ def _frame(ax, points, title: str) -> None:
     ax.set_title(title)
 
 
+#: Points per curved edge when a domain's curves are drawn.
+_CURVE_SAMPLES = 24
+
+
+def _edge_path(points, a: int, b: int, curves) -> np.ndarray:
+    """The edge from vertex ``a`` to ``b`` as a polyline: its curve sampled, or the segment."""
+    t = np.linspace(0.0, 1.0, _CURVE_SAMPLES + 1)
+    if (a, b) in curves:
+        return curves[(a, b)].point(t)
+    if (b, a) in curves:
+        return curves[(b, a)].point(1 - t)
+    return points[[a, b]]
+
+
+def _block_outlines(domain) -> list[np.ndarray]:
+    """Every block's outline, its curved edges sampled."""
+    outlines = []
+    for block in domain.blocks.tolist():
+        pieces = [
+            _edge_path(domain.vertices, block[k], block[(k + 1) % 5], domain.curves)[:-1]
+            for k in range(5)
+        ]
+        outlines.append(np.vstack(pieces))
+    return outlines
+
+
 def plot_domain(domain, path: str | Path) -> Path:
     """Draw the blocks (numbered), vertices (numbered) and patches (coloured, with a legend).
 
@@ -80,9 +109,17 @@ def plot_domain(domain, path: str | Path) -> Path:
     fig, ax = plt.subplots(figsize=(7, 7))
     xy = domain.vertices[domain.blocks]
     shades = [_REGION_SHADES[r % len(_REGION_SHADES)] for r in domain.region]
-    ax.add_collection(PolyCollection(xy, facecolors=shades, edgecolors="0.35", linewidths=1.0))
+    outlines = _block_outlines(domain) if domain.curves else xy
+    ax.add_collection(
+        PolyCollection(outlines, facecolors=shades, edgecolors="0.35", linewidths=1.0)
+    )
     _draw_patches(
-        ax, domain.vertices, domain.boundary_edges, domain.boundary_patch, domain.patch_names
+        ax,
+        domain.vertices,
+        domain.boundary_edges,
+        domain.boundary_patch,
+        domain.patch_names,
+        domain.curves,
     )
     centres = xy.mean(axis=1)
     size = 11 if domain.n_blocks <= 30 else 7

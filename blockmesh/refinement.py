@@ -291,6 +291,10 @@ def refine(
     _check_precision(base, level)
     try:
         mesh = _build(base, neighbour, level, smooth, progress)
+        if base.curves is not None:  # cells with curved edges: see blockmesh.curved_refinement
+            from .curved_refinement import place_on_curves
+
+            mesh = place_on_curves(base, mesh, level, smooth)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "

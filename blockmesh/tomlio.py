@@ -19,6 +19,20 @@ blocks, like OpenFOAM's blockMeshDict::
     [regions]
     solid = [0]            # block ids
 
+    [[edges]]              # curved block edges (explicit blocks), one table each
+    arc = [3, 4]           # from vertex 3 to vertex 4, through a point or around a centre
+    through = [0.5, 2.2]   # or: center = [x, y]
+    [[edges]]
+    spline = [4, 0]        # or polyline = [a, b]: through the interior points, in order
+    points = [[0.1, 0.6], [-0.1, 0.3]]
+
+    # curves of a polygon: [[arcs]] on its edges, circular holes, or a whole circle
+    [[arcs]]
+    edge = 2               # or "hole K:E"
+    through = [1, 2.4]
+    circles = [{center = [1, 1], radius = 0.3, patch = "cylinder"}]
+    circle = {center = [0, 0], radius = 1, patch = "rim"}   # alone: a disc
+
 Only this module knows the file layout; :mod:`blockmesh.domain` validates the values. Reading is
 bounded: the file must be a regular file (not a FIFO or a device) of at most
 :data:`MAX_FILE_BYTES`, arrays and tables nest at most :data:`MAX_NESTING` deep, and integers
@@ -76,6 +90,12 @@ ALLOWED_KEYS = {
     "regions": "a table: region name = list of block ids",
     "boundary_source": "the polygon edge each boundary edge lies on, [[a, b, ring, edge], ...]",
     "block_source": "the mesh element each block came from, [e0, e1, ...]",
+    "edges": "curved block edges: [[edges]] tables, each arc|spline|polyline = [a, b] with "
+    "through|center|points",
+    "arcs": 'curved polygon edges: [[arcs]] tables, each edge = i or "hole K:E" with '
+    "through|center",
+    "circles": 'circular holes of a polygon: [{center = [x, y], radius = r, patch = "name"}]',
+    "circle": 'a whole disc instead of a polygon: {center = [x, y], radius = r, patch = "name"}',
 }
 
 
@@ -260,8 +280,16 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
                 raise DomainFormatError(
                     f"{source}: {what} {name!r} must be a list, got {_toml_type(value)}"
                 )
+    if "circle" in raw:
+        return _disc(raw, source)
     has_polygon = "polygon" in raw
     has_blocks = "vertices" in raw or "blocks" in raw
+    for key in ("arcs", "circles"):
+        if key in raw and not has_polygon:
+            raise DomainFormatError(
+                f"{source}: '{key}' belong to a 'polygon'; with explicit blocks, curve their "
+                "edges with [[edges]]"
+            )
     if has_polygon and has_blocks:
         raise DomainFormatError(
             f"{source}: give either 'polygon' or 'vertices' and 'blocks', not both"
@@ -288,7 +316,100 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
         raise DomainFormatError(
             f"{source}: 'regions' needs explicit blocks; a polygon is decomposed automatically"
         )
+    if has_polygon and "edges" in raw:
+        raise DomainFormatError(
+            f"{source}: 'edges' needs explicit blocks (vertices and blocks), not a polygon"
+        )
+    if "edges" in raw:
+        raw["edges"] = _curved_edges(raw["edges"], source)
+    if "arcs" in raw:
+        raw["arcs"] = _polygon_arcs(raw["arcs"], source)
+    if "circles" in raw and not isinstance(raw["circles"], list):
+        raise DomainFormatError(
+            f"{source}: 'circles' must be a list of tables, got {_toml_type(raw['circles'])}"
+        )
     return raw
+
+
+def _disc(raw: dict[str, Any], source: str) -> dict[str, Any]:
+    """A ``circle = {...}`` domain: the table checked, no other geometry."""
+    others = sorted(set(raw) - {"name", "description", "circle"})
+    if others:
+        raise DomainFormatError(
+            f"{source}: a 'circle' is the whole domain; leave out {', '.join(map(repr, others))} "
+            "(its boundary patch is circle.patch)"
+        )
+    circle = raw["circle"]
+    if not isinstance(circle, dict):
+        raise DomainFormatError(
+            f"{source}: 'circle' must be a table {{center = [x, y], radius = r}}, got "
+            f"{_toml_type(circle)}"
+        )
+    unknown = sorted(set(circle) - {"center", "radius", "patch"})
+    if unknown or "center" not in circle or "radius" not in circle:
+        raise DomainFormatError(
+            f"{source}: 'circle' takes center = [x, y], radius = r and optionally patch, got "
+            f"{', '.join(sorted(circle)) or 'nothing'}"
+        )
+    return raw
+
+
+def _polygon_arcs(tables: object, source: str) -> dict[Any, Any]:
+    """``[[arcs]]`` tables as ``{edge: Arc}`` (unbound; the domain checks them)."""
+    from .curves import curve_from_fields
+
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise DomainFormatError(
+            f"{source}: 'arcs' must be [[arcs]] tables (one per curved polygon edge), got "
+            f"{_toml_type(tables)}"
+        )
+    out: dict[Any, Any] = {}
+    for k, table in enumerate(tables, start=1):
+        where = f"{source}: [[arcs]] entry {k}"
+        if "edge" not in table:
+            raise DomainFormatError(f'{where} needs edge = i (outer edge i) or edge = "hole K:E"')
+        edge = table["edge"]
+        if not (isinstance(edge, int | str) and not isinstance(edge, bool)):
+            raise DomainFormatError(f'{where}: edge must be i or "hole K:E", got {edge!r}')
+        if edge in out:
+            raise DomainFormatError(f"{where}: edge {edge!r} already has an arc")
+        fields = {name: value for name, value in table.items() if name != "edge"}
+        out[edge] = curve_from_fields("arc", fields, f"{where} (edge = {edge!r})")
+    return out
+
+
+def _curved_edges(tables: object, source: str) -> dict[tuple[int, int], Any]:
+    """``[[edges]]`` tables as ``{(a, b): curve}`` (unbound curves; the domain checks them)."""
+    from .curves import CURVE_KINDS, curve_from_fields
+
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise DomainFormatError(
+            f"{source}: 'edges' must be [[edges]] tables (one per curved edge), got "
+            f"{_toml_type(tables)}"
+        )
+    out: dict[tuple[int, int], Any] = {}
+    for k, table in enumerate(tables, start=1):
+        kinds = [name for name in CURVE_KINDS if name in table]
+        where = f"{source}: [[edges]] entry {k}"
+        if len(kinds) != 1:
+            raise DomainFormatError(
+                f"{where} needs exactly one of {', '.join(CURVE_KINDS)} = [a, b] (the edge's two "
+                f"vertex ids), got {', '.join(sorted(table)) or 'nothing'}"
+            )
+        kind = kinds[0]
+        pair = table[kind]
+        if (
+            not isinstance(pair, list)
+            or len(pair) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+        ):
+            raise DomainFormatError(f"{where}: {kind} must be [a, b], two vertex ids, got {pair!r}")
+        key = (pair[0], pair[1])
+        if key in out or key[::-1] in out:
+            raise DomainFormatError(f"{where}: edge {list(key)} already has a curve")
+        fields = {name: value for name, value in table.items() if name != kind}
+        out[key] = curve_from_fields(kind, fields, f"{where} ({kind} = {list(key)})")
+    return out
 
 
 def _toml_type(value: object) -> str:
@@ -343,4 +464,15 @@ def dumps_domain(domain) -> str:
     lines.append("[regions]")
     for name, ids in domain.regions.items():
         lines.append(f"{_key(name)} = [{', '.join(str(int(b)) for b in ids)}]")
+    for (a, b), curve in domain.curves.items():
+        lines += ["", "[[edges]]", f"{curve.kind} = [{int(a)}, {int(b)}]"]
+        for name, value in curve.to_fields().items():
+            lines.append(f"{name} = {_toml_value(value)}")
     return "\n".join(lines) + "\n"
+
+
+def _toml_value(value: Any) -> str:
+    """A point ``[x, y]`` or a list of points, with exact floats."""
+    if value and isinstance(value[0], list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    return f"[{', '.join(_float(c) for c in value)}]"

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import pytest
 
-from blockmesh.catalogue import catalogue_names
+from blockmesh.catalogue import catalogue_names, catalogue_path
 from blockmesh.cli import main
 
-#: Every catalogue domain name.
-CATALOGUE = catalogue_names()
+#: The catalogue domains with curved edges (their refined cells approach the curves, so the
+#: straight-edged invariants, area preserved and nodes on the block edges, do not apply to them).
+CURVED_CATALOGUE = [n for n in catalogue_names() if "[[edges]]" in catalogue_path(n).read_text()]
+#: Every straight-edged catalogue domain name.
+CATALOGUE = [n for n in catalogue_names() if n not in CURVED_CATALOGUE]
 #: The paper's symmetric and unsymmetrical pentagons.
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 USP = [(0.0, 0.0), (2.0, 0.0), (3.0, 1.0), (1.0, 3.0), (0.0, 2.0)]

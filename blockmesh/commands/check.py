@@ -62,7 +62,23 @@ def run(args: argparse.Namespace) -> int:
         print_json(report)
         return 0
     _print_certificate(report)
+    if domain.curves:
+        print(_curves_line(domain))
     return 0
+
+
+def _curves_line(domain: Domain) -> str:
+    """What the curve checks established, for the text certificate."""
+    from collections import Counter
+
+    from ..curve_checks import CHECK_LEVELS
+
+    kinds = Counter(curve.kind for curve in domain.curves.values())
+    listed = ", ".join(f"{n} {kind}{'s' if n != 1 else ''}" for kind, n in kinds.items())
+    return (
+        f"  curved edges {len(domain.curves)} ({listed}): the blocks stay strictly convex with "
+        f"them, refined to level {CHECK_LEVELS}"
+    )
 
 
 #: Blocks listed one per line in the text certificate (all of them are in the JSON).

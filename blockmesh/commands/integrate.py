@@ -73,6 +73,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="also the exact integral over the domain (polynomials only), as a fraction",
     )
     parser.add_argument(
+        "--exact-geometry",
+        action="store_true",
+        help="integrate the cells with curved edges over their true curved shape (default: the "
+        "straight cells through their nodes)",
+    )
+    parser.add_argument(
         "--tol",
         type=float,
         metavar="T",
@@ -118,6 +124,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 level=args.level,
                 start_order=args.order or 2,
                 max_level=args.max_level,
+                exact_geometry=args.exact_geometry,
                 **limits,
             )
         with warnings.catch_warnings():
@@ -128,10 +135,16 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 order=_DEFAULT_ORDER if args.order is None else args.order,
                 level=_level(args, target),
                 rule=args.rule or "paper",
+                exact_geometry=args.exact_geometry,
                 **limits,
             )
     except ResourceError as error:
         raise ResourceError(f"{error} (--max-points)") from None
+
+
+def _has_curves(target: Any) -> bool:
+    curves = target.curves if isinstance(target, Mesh) else target.block_mesh().curves
+    return curves is not None and len(curves) > 0
 
 
 def _level(args: argparse.Namespace, target: Any) -> int | None:
@@ -176,6 +189,17 @@ def run(args: argparse.Namespace) -> int:
             f"  rule            {result.rule}, order {order} (exact to degree {2 * order - 1}), "
             f"{result.points:,} points"
         )
+        if _has_curves(target):
+            print(
+                "  geometry        "
+                + ("the curved cells (exact geometry)" if args.exact_geometry else
+                   "straight cells through the nodes (--exact-geometry: the curved cells)")
+            )  # fmt: skip
+        elif args.exact_geometry:
+            print(
+                "  geometry        straight: no curved edges here (a mesh read from a file "
+                "keeps its nodes on the curves but not the curves)"
+            )
         if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):
                 print(f"  exact           {exact}")

@@ -17,7 +17,8 @@ import math
 
 import numpy as np
 
-from ..errors import ArgumentError, ResourceError
+from ..curved_quadrature import exact_sums
+from ..errors import ArgumentError, ArgumentTypeError, ResourceError
 from ..refinement import refine
 from .arguments import Integrand, check_chunk, check_integrand, check_max_points, check_nonnegative
 from .kernel import DEFAULT_CHUNK, cell_sums, total_of
@@ -49,6 +50,7 @@ def integrate_to_tolerance(
     max_level: int = 6,
     max_points: int = 200_000_000,
     chunk: int = DEFAULT_CHUNK,
+    exact_geometry: bool = False,
 ) -> IntegrationResult:
     """Integrate to ``|error| <= max(tol, rtol * |I|)``, choosing order and level.
 
@@ -76,7 +78,7 @@ def integrate_to_tolerance(
         Starting level (default: a Domain's block mesh, or the Mesh as given).
     start_order, max_order, max_level, max_points : int
         Limits of the search.
-    chunk : int
+    chunk, exact_geometry
         As in :func:`~blockmesh.quadrature.integrate`.
 
     Returns
@@ -94,6 +96,8 @@ def integrate_to_tolerance(
     rtol = check_nonnegative(rtol, "rtol")
     if tol == 0 and rtol == 0:
         raise ArgumentError("give a tolerance: tol or rtol must be > 0")
+    if not isinstance(exact_geometry, bool):
+        raise ArgumentTypeError(f"exact_geometry must be True or False, got {exact_geometry!r}")
     n = order_of(found, start_order)
     order_of(found, max_order)
     max_points = check_max_points(max_points)
@@ -123,7 +127,10 @@ def integrate_to_tolerance(
                 f"max_points={max_points:,}"
             )
             break
-        sums = cell_sums(mesh, function, found, n, chunk, absolute=True)
+        sums = exact_sums(
+            cell_sums(mesh, function, found, n, chunk, absolute=True),
+            mesh, function, found, n, exact_geometry,
+        )  # fmt: skip
         value = total_of(sums)
         assert sums.absolute is not None  # asked for above
         floor = _ROUNDOFF * float(np.sum(sums.absolute)) + 1e-300

@@ -22,7 +22,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..errors import BlockMeshWarning
+from ..curved_quadrature import exact_sums
+from ..errors import ArgumentTypeError, BlockMeshWarning
 from ..mesh import Mesh
 from .arguments import (
     Integrand,
@@ -84,6 +85,7 @@ def integrate(
     chunk: int = DEFAULT_CHUNK,
     max_points: int = DEFAULT_MAX_POINTS,
     warn_rtol: float | None = DEFAULT_WARN_RTOL,
+    exact_geometry: bool = False,
 ) -> float:
     """Integrate ``f`` over a domain or mesh with a composite Gauss rule.
 
@@ -109,6 +111,10 @@ def integrate(
         Warn (:class:`~blockmesh.errors.BlockMeshWarning`) when the error estimate of
         :func:`integrate_with_estimate` is above ``warn_rtol`` times the sum of the sectors'
         ``|integral|``; ``None`` skips the estimate (slightly faster, no warning).
+    exact_geometry : bool
+        Integrate the cells with curved edges over their true curved shape
+        (:mod:`blockmesh.curved_quadrature`) instead of their straight cells; no effect on a
+        mesh without curves.
 
     Returns
     -------
@@ -139,9 +145,11 @@ def integrate(
     """
     if warn_rtol is None:
         function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
-        return total_of(cell_sums(plan.build(), function, found, n, check_chunk(chunk)))
+        mesh = plan.build()
+        sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
+        return total_of(exact_sums(sums, mesh, function, found, n, _flag(exact_geometry)))
     return _with_estimate(
-        target, f, order, level, rule, chunk, max_points, warn_rtol, stacklevel=3
+        target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, stacklevel=3
     ).value
 
 
@@ -154,6 +162,7 @@ def integrate_cells(
     rule: str | Rule = "paper",
     chunk: int = DEFAULT_CHUNK,
     max_points: int = DEFAULT_MAX_POINTS,
+    exact_geometry: bool = False,
 ) -> np.ndarray:
     """The integral of ``f`` over every cell, shape (M,), read-only.
 
@@ -168,7 +177,9 @@ def integrate_cells(
     ((6,), 7.3333333333333)
     """
     function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
-    return cell_sums(plan.build(), function, found, n, check_chunk(chunk)).values
+    mesh = plan.build()
+    sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
+    return exact_sums(sums, mesh, function, found, n, _flag(exact_geometry)).values
 
 
 def integrate_with_estimate(
@@ -181,6 +192,7 @@ def integrate_with_estimate(
     chunk: int = DEFAULT_CHUNK,
     max_points: int = DEFAULT_MAX_POINTS,
     warn_rtol: float = DEFAULT_WARN_RTOL,
+    exact_geometry: bool = False,
 ) -> IntegrationResult:
     """Like :func:`integrate`, with an error estimate; warns when the estimate is large.
 
@@ -212,7 +224,9 @@ def integrate_with_estimate(
     >>> str(caught[0].message).split(":")[0]
     'the integral is not resolved'
     """
-    return _with_estimate(target, f, order, level, rule, chunk, max_points, warn_rtol, stacklevel=3)
+    return _with_estimate(
+        target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, stacklevel=3
+    )
 
 
 def _with_estimate(
@@ -224,6 +238,7 @@ def _with_estimate(
     chunk: object,
     max_points: object,
     warn_rtol: object,
+    exact_geometry: object,
     *,
     stacklevel: int,
 ) -> IntegrationResult:
@@ -233,7 +248,10 @@ def _with_estimate(
     budget = check_max_points(max_points)
     mesh = plan.build()
     screen = null_rule(found, n)
-    sums = cell_sums(mesh, function, found, n, chunk, screen=screen)
+    exact = _flag(exact_geometry)
+    sums = exact_sums(
+        cell_sums(mesh, function, found, n, chunk, screen=screen), mesh, function, found, n, exact
+    )
     value = total_of(sums)
     scale = float(np.sum(sums.magnitude)) if sums.magnitude is not None else abs(value)
     limit = (warn_level + _ROUNDOFF) * scale
@@ -245,7 +263,9 @@ def _with_estimate(
         check = n + 1 if n + 1 <= found.max_order else n - 1
         extra = plan.cells * found.info(check).points_per_cell if check >= 1 else None
         if extra is not None and points + extra <= budget:
-            other = cell_sums(mesh, function, found, check, chunk)
+            other = exact_sums(
+                cell_sums(mesh, function, found, check, chunk), mesh, function, found, check, exact
+            )
             per_cell = _SAFETY * np.abs(sums.values - other.values)
             estimate = float(np.sum(per_cell))
             points += extra
@@ -272,6 +292,12 @@ def _with_estimate(
         history,
         worst,
     )
+
+
+def _flag(exact_geometry: object) -> bool:
+    if not isinstance(exact_geometry, bool):
+        raise ArgumentTypeError(f"exact_geometry must be True or False, got {exact_geometry!r}")
+    return exact_geometry
 
 
 def _not_resolved(

@@ -360,7 +360,7 @@ def test_catalogue_entries_are_valid(catalogue_domain):
 def test_catalogue_contents(catalogue):
     expected = {"sp", "usp", "hexagon", "square-cut", "triangle", "square", "heptagon", "octagon"}
     expected |= {"dodecagon", "l-shape", "ring"} | {f"joined-{k}" for k in range(2, 9)}
-    expected |= {"backward-step", "t-junction", "channel-obstacle", "l-outline", "plate-hole"}
+    expected |= {"backward-step", "t-junction", "channel-obstacle", "l-outline", "plate-octagon"}
     expected |= {"comb", "star", "lake-island", "cook-membrane"}
     assert expected <= set(catalogue)
     for k in range(2, 9):
@@ -381,9 +381,9 @@ def test_catalogue_contents(catalogue):
     )
     assert {"inlet", "outlet1", "outlet2", "walls"} == set(catalogue["t-junction"].patch_names)
     assert "obstacle" in catalogue["channel-obstacle"].patch_names
-    assert {"clamped", "traction", "hole"} <= set(catalogue["plate-hole"].patch_names)
+    assert {"clamped", "traction", "hole"} <= set(catalogue["plate-octagon"].patch_names)
     assert {"coast", "shore"} == set(catalogue["lake-island"].patch_names)
-    for name in ("channel-obstacle", "plate-hole", "lake-island"):
+    for name in ("channel-obstacle", "plate-octagon", "lake-island"):
         union = shapely.union_all(
             shapely.polygons(catalogue[name].vertices[catalogue[name].blocks])
         )

@@ -1,0 +1,194 @@
+"""Curved edges on domains: from_blocks(edges=...), TOML [[edges]], round trips, located errors."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from helpers import SP
+
+import blockmesh
+from blockmesh import Domain
+from blockmesh.curves import Arc, Polyline, Spline
+from blockmesh.errors import DomainError, DomainFormatError
+
+PENTAGON = [(0, 0), (2, 0), (3, 1), (1, 3), (0, 2)]
+
+
+def _arc_with_sagitta(points, a, b, ratio):
+    """An arc on edge (a, b) bulging by ``ratio`` x its chord (to the right of a -> b)."""
+    p, q = np.asarray(points[a], float), np.asarray(points[b], float)
+    chord = np.hypot(*(q - p))
+    d = (q - p) / chord
+    return Arc(through=tuple((p + q) / 2 + ratio * chord * np.array([d[1], -d[0]])))
+
+
+def test_curves_are_bound_to_their_vertices():
+    d = Domain.from_blocks(PENTAGON, [(0, 1, 2, 3, 4)], edges={(1, 0): Arc(through=(1, -0.2))})
+    ((key, arc),) = d.curves.items()
+    assert key == (1, 0) and arc.start == (2.0, 0.0) and arc.end == (0.0, 0.0)
+    with pytest.raises(TypeError):
+        d.curves[(0, 1)] = arc  # read-only
+    # The block runs 0 -> 1, against the curve: its area gains the segment the other way round.
+    assert d.area == pytest.approx(6.0 - float(arc.segment_area(0, 1)), rel=1e-15)
+    assert d.area > 6.0
+
+
+def test_curved_area_of_a_block_adds_the_segments():
+    spline = Spline(points=[(1, -0.1)])
+    line = Polyline(points=[(2.6, 0.4)])
+    d = Domain.from_blocks(PENTAGON, [(0, 1, 2, 3, 4)], edges={(0, 1): spline, (1, 2): line})
+    segments = d.curves[(0, 1)].segment_area(0, 1) + d.curves[(1, 2)].segment_area(0, 1)
+    assert d.area == pytest.approx(6.0 + segments, rel=1e-15)
+    assert d.block_areas() == pytest.approx([d.area])
+
+
+def test_a_domain_rebuilt_from_its_fields_keeps_its_curves():
+    d = Domain.from_blocks(PENTAGON, [(0, 1, 2, 3, 4)], edges={(0, 1): Arc(through=(1, -0.2))})
+    again = Domain(
+        d.name, d.vertices, d.blocks, d.boundary_edges, d.boundary_patch, d.patch_names,
+        d.region, d.region_names, curves=d.curves,
+    )  # fmt: skip
+    assert dict(again.curves) == dict(d.curves)
+    assert np.array_equal(again.mesh(3).points, d.mesh(3).points)
+
+
+@pytest.mark.parametrize(
+    "edges, error, message",
+    [
+        ({(0, 2): Arc(center=(1, 1))}, DomainError, "edge (0, 2) is not a block edge"),
+        ({(0, 9): Arc(center=(1, 1))}, DomainError, "names vertex 9, but the vertices are"),
+        ({(0, 1.5): Arc(center=(1, 1))}, DomainFormatError, "vertex ids must be whole numbers"),
+        ({(0, 1): "arc"}, DomainFormatError, "must map to a curve (Arc, Spline or Polyline)"),
+        ({(0, 1): Arc(through=(1, -0.2)), (1, 0): Arc(through=(1, 0.2))}, DomainError,
+         "edge (1, 0) has two curves (it is also given as (0, 1))"),
+        ({(0, 1): Arc(center=(1.5, 5))}, DomainError,
+         "the arc on edge (0, 1) cannot reach both ends"),
+        ({(0, 1): Arc(through=(1, 0))}, DomainError, "on the straight line"),
+        ({(0, 1): Arc(through=(1, -0.2), start=(0, 0), end=(5, 0))}, DomainError,
+         "has an end at (5, 0), but vertex 1 is at (2, 0)"),
+        ([(0, 1)], DomainFormatError, "edges must map vertex pairs"),
+        ({(0, 1): Spline(points=[(3, -1), (-1, -1)])}, DomainError,
+         "the spline on edge (0, 1) crosses itself"),
+    ],
+)  # fmt: skip
+def test_bad_curves_are_located(edges, error, message):
+    with pytest.raises(error) as caught:
+        Domain.from_blocks(PENTAGON, [(0, 1, 2, 3, 4)], edges=edges)
+    assert message in str(caught.value)
+
+
+def test_a_bulge_that_makes_a_corner_reflex_is_refused():
+    with pytest.raises(DomainError) as caught:
+        Domain.from_blocks(PENTAGON, [(0, 1, 2, 3, 4)], edges={(1, 2): Arc(through=(2.9, 0.2))})
+    message = str(caught.value)
+    assert message.startswith("block 0 (vertices 0, 1, 2, 3, 4) is not convex at vertex 1 (2, 0)")
+    assert "with the arc on edge (1, 2) the corner is" in message and "more than 180" in message
+
+
+def test_a_concave_arc_that_folds_cells_is_refused_with_the_level():
+    arc = _arc_with_sagitta(SP, 0, 1, -0.45)  # deep into the symmetric pentagon
+    with pytest.raises(DomainError) as caught:
+        Domain.from_blocks(SP, [(0, 1, 2, 3, 4)], edges={(0, 1): arc})
+    message = str(caught.value)
+    assert "block 0 (vertices 0, 1, 2, 3, 4) does not stay convex with the arc on edge (0, 1)" in (
+        message
+    )
+    assert "refined to level" in message and "make the curve bulge less" in message
+
+
+def test_an_arc_running_into_another_block_is_refused():
+    # A U: a base block and two arms; an arc on the left arm bulges across the gap.
+    vertices = [
+        (1.5, -1),
+        (3, 0),
+        (2, 0.5),
+        (1, 0.5),
+        (0, 0),
+        (0.96, 2.6),
+        (0.3, 2.9),
+        (-0.3, 2.4),
+        (3.3, 2.3),
+        (2.5, 2.9),
+        (1.1, 2.6),
+    ]
+    blocks = [(0, 1, 2, 3, 4), (4, 3, 5, 6, 7), (1, 8, 9, 10, 2)]  # fmt: skip
+    Domain.from_blocks(vertices, blocks, edges={(3, 5): _arc_with_sagitta(vertices, 3, 5, 0.03)})
+    with pytest.raises(DomainError) as caught:
+        Domain.from_blocks(vertices, blocks, edges={(3, 5): _arc_with_sagitta(vertices, 3, 5, 0.3)})
+    message = str(caught.value)
+    assert message.startswith(
+        "block 1 (vertices 4, 3, 5, 6, 7) with the arc on edge (3, 5) runs into block 2 near ("
+    )
+    assert "make the curve bulge less" in message
+
+
+def test_toml_edges_round_trip_bit_for_bit(tmp_path):
+    text = """
+name = "curvy"
+vertices = [[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]]
+blocks = [[0, 1, 2, 3, 4]]
+[[edges]]
+arc = [0, 1]
+through = [1, -0.15]
+[[edges]]
+spline = [2, 3]
+points = [[2.3, 2.2], [1.6, 2.8]]
+[[edges]]
+polyline = [4, 0]
+points = [[-0.2, 1.0]]
+[[edges]]
+arc = [3, 4]
+center = [2.0, 1.0]
+"""
+    d = Domain.from_toml_text(text)
+    assert [c.kind for c in d.curves.values()] == ["arc", "spline", "polyline", "arc"]
+    path = d.write_toml(tmp_path / "curvy.toml")
+    again = blockmesh.load_domain(path)
+    assert dict(again.curves) == dict(d.curves)
+    assert np.array_equal(again.mesh(4).points, d.mesh(4).points)
+    assert again.area == d.area
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        ("edges = 3", "'edges' must be [[edges]] tables"),
+        ("[[edges]]\nthrough = [1, 1]", "[[edges]] entry 1 needs exactly one of arc, spline"),
+        ("[[edges]]\narc = [0, 1]\nspline = [0, 1]", "needs exactly one of"),
+        ("[[edges]]\narc = [0]\nthrough = [1, 1]", "arc must be [a, b], two vertex ids"),
+        ("[[edges]]\narc = [0, 1]\npoints = [[1, 1]]", "a arc takes through or center"),
+        ("[[edges]]\narc = [0, 1]\nthrough = [1, -1]\n[[edges]]\narc = [1, 0]\nthrough = [1, 1]",
+         "[[edges]] entry 2: edge [1, 0] already has a curve"),
+        ("[[edges]]\nspline = [0, 1]\npoints = []", "give at least one interior point"),
+    ],
+)  # fmt: skip
+def test_toml_edge_errors_name_the_entry(extra, message):
+    text = "vertices = [[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]]\nblocks = [[0, 1, 2, 3, 4]]\n"
+    with pytest.raises(DomainFormatError) as caught:
+        Domain.from_toml_text(text + extra)
+    assert message in str(caught.value)
+
+
+def test_toml_edges_need_explicit_blocks():
+    with pytest.raises(DomainFormatError, match="'edges' needs explicit blocks"):
+        Domain.from_toml_text("polygon = [[0, 0], [1, 0], [0, 1]]\n[[edges]]\narc = [0, 1]\n")
+
+
+def test_catalogue_curved_domains_round_trip(tmp_path):
+    for name in ("disc", "cylinder-channel"):
+        d = blockmesh.load_domain(name)
+        again = Domain.from_toml_text(d.to_toml())
+        assert dict(again.curves) == dict(d.curves)
+        assert np.array_equal(again.mesh(2).points, d.mesh(2).points)
+
+
+def test_cli_check_and_catalogue_know_curved_domains(capsys):
+    from helpers import run_cli
+
+    code, out, _ = run_cli(capsys, "check", "annulus")
+    assert code == 0 and "valid" in out
+    code, out, _ = run_cli(capsys, "catalogue")
+    assert code == 0 and "quarter-plate-hole" in out
+    assert math.isclose(blockmesh.load_domain("annulus").area, 0.75 * math.pi, rel_tol=1e-14)
