@@ -21,7 +21,8 @@ from typing import Any
 import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
-from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
+from .geometry import signed_area
+from .measures import CellMeasures, measure_cells
 from .topology import boundary_of_cells, boundary_slots, cell_neighbours, unique_edges
 
 __all__ = ["Mesh", "MeshQuality"]
@@ -29,6 +30,8 @@ __all__ = ["Mesh", "MeshQuality"]
 
 #: Cells whose measures are computed at once by the chunked checks and measures.
 _CHUNK = 1 << 18
+#: Cells per step of :meth:`Mesh.bandwidth` (five columns of int64 temporaries in cache).
+_BANDWIDTH_CHUNK = 1 << 15
 
 
 def _frozen(values: Any, dtype: Any, what: str, tail: tuple[int, ...] = ()) -> np.ndarray:
@@ -313,14 +316,23 @@ class Mesh:
             or [np.zeros(0)]
         )
 
+    def _measures(self) -> CellMeasures:
+        """Areas, angles, aspect and convexity of all cells, measured once (cached)."""
+        if "measures" not in self._cache:
+            self._cache["measures"] = measure_cells(self)
+        return self._cache["measures"]
+
     @property
     def area(self) -> float:
         """Total area of the mesh (sum of cell areas)."""
-        return float(np.sum(self.cell_areas()))
+        return self._measures().area
 
     # --------------------------------------------------------------- quality
-    def quality(self, *, chunk: int = 1 << 18) -> MeshQuality:
+    def quality(self, *, chunk: int | None = None) -> MeshQuality:
         """Angles, aspect ratios and areas of the cells, in chunks (bounded memory).
+
+        One pass over the cells, shared with :attr:`area` and :meth:`check_geometry` and cached;
+        ``chunk`` (cells per pass step) only changes the memory used, not the result.
 
         Examples
         --------
@@ -329,25 +341,17 @@ class Mesh:
         >>> round(q.min_angle, 1), round(q.max_angle, 1), q.not_strictly_convex
         (56.3, 150.3, 0)
         """
-        min_angle, max_angle, max_aspect = np.inf, -np.inf, 0.0
-        min_area, max_area, bad = np.inf, -np.inf, 0
-        for start in range(0, self.n_cells, chunk):
-            xy = self._local_corners(start, start + chunk)
-            angles = interior_angles(xy)
-            areas = signed_area(xy)
-            diff = xy[:, :, None, :] - xy[:, None, :, :]
-            diam2 = np.max(np.einsum("mijk,mijk->mij", diff, diff), axis=(1, 2))
-            with np.errstate(divide="ignore", invalid="ignore"):
-                aspect = np.where(areas > 0, diam2 / np.where(areas > 0, areas, 1.0), np.inf)
-            sines = np.nan_to_num(corner_sines(xy), nan=-1.0)
-            bad += int(np.count_nonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1)))
-            min_angle = min(min_angle, float(angles.min()))
-            max_angle = max(max_angle, float(angles.max()))
-            max_aspect = max(max_aspect, float(aspect.max()))
-            min_area = min(min_area, float(areas.min()))
-            max_area = max(max_area, float(areas.max()))
-        ratio = min_area / max_area if max_area > 0 else 0.0
-        return MeshQuality(min_angle, max_angle, max_aspect, min_area, max_area, ratio, bad)
+        m = self._measures() if chunk is None else measure_cells(self, chunk=chunk)
+        ratio = m.min_area / m.max_area if m.max_area > 0 else 0.0
+        return MeshQuality(
+            m.min_angle,
+            m.max_angle,
+            m.max_aspect_ratio,
+            m.min_area,
+            m.max_area,
+            ratio,
+            m.not_strictly_convex,
+        )
 
     def check_geometry(self) -> None:
         """Raise DomainError unless every cell is a strictly convex, counter-clockwise polygon.
@@ -364,14 +368,8 @@ class Mesh:
         if not np.all(np.isfinite(self.points)):
             bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
             raise DomainError(f"point {bad} {self.points[bad].tolist()} is not finite")
-        failed, first = 0, -1
-        for start in range(0, self.n_cells, _CHUNK):
-            xy = self._local_corners(start, start + _CHUNK)
-            sines = np.nan_to_num(corner_sines(xy), nan=-1.0)
-            bad = ~(np.all(sines > COLLINEAR_SIN_TOL, axis=1) & (signed_area(xy) > 0))
-            if first < 0 and np.any(bad):
-                first = start + int(np.flatnonzero(bad)[0])
-            failed += int(np.count_nonzero(bad))
+        measures = self._measures()
+        failed, first = measures.invalid, measures.first_invalid
         if failed:
             corners = self.points[self.cells[first]]
             raise DomainError(
@@ -391,9 +389,18 @@ class Mesh:
         >>> blockmesh.load_domain("sp").mesh(1).bandwidth()
         14
         """
-        if self.n_cells == 0:
-            return 0
-        return int(np.max(self.cells.max(axis=1) - self.cells.min(axis=1)))
+        widest = 0
+        for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
+            columns = self.cells[start : start + _BANDWIDTH_CHUNK].T
+            high = np.maximum(
+                np.maximum(columns[0], columns[1]), np.maximum(columns[2], columns[3])
+            )
+            np.maximum(high, columns[4], out=high)
+            low = np.minimum(np.minimum(columns[0], columns[1]), np.minimum(columns[2], columns[3]))
+            np.minimum(low, columns[4], out=low)
+            high -= low
+            widest = max(widest, int(high.max()))
+        return widest
 
     def renumbered(self, order: np.ndarray) -> Mesh:
         """The same mesh with node ``order[k]`` renamed ``k`` (a permutation of ``0..N-1``).
