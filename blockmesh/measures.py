@@ -33,6 +33,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -43,7 +44,7 @@ from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_a
 if TYPE_CHECKING:
     from .mesh import Mesh
 
-__all__ = ["CHUNK", "CellMeasures", "measure_cells"]
+__all__ = ["CHUNK", "CellMeasures", "cell_shapes", "measure_cells"]
 
 #: Cells measured at once: (2, 7, CHUNK) float64 corners and a few (5, CHUNK) temporaries stay
 #: within a core's L2 cache.
@@ -204,3 +205,30 @@ def measure_cells(mesh: Mesh, *, chunk: int = CHUNK) -> CellMeasures:
             min_angle, max_angle = (180.0 - np.degrees(turn)).tolist()
             acc.add(start, areas, diam2, min_angle, max_angle, None)
     return acc.result()
+
+
+def cell_shapes(mesh: Mesh, *, chunk: int = 1 << 16) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Interior angles (5, m) in degrees and aspect ratios (m,) of the cells, chunk by chunk.
+
+    For histograms of the whole mesh in bounded memory (``plot_quality``). Aspect ratio is
+    diameter**2 / area, ``inf`` where a cell has no positive area.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> angles, aspect = next(cell_shapes(blockmesh.load_domain("sp").mesh(0)))
+    >>> angles.round(1).ravel().tolist(), aspect.round(3).tolist()
+    ([135.0, 135.0, 71.6, 126.9, 71.6], [3.2])
+    """
+    z_points = mesh.points.view(np.complex128).reshape(-1)
+    for start in range(0, mesh.n_cells, chunk):
+        z = np.take(z_points, mesh.cells[start : start + chunk].T, mode="clip")  # (5, m)
+        edges = np.roll(z, -1, axis=0) - z  # edge k from corner k to k + 1
+        turn = edges * np.roll(edges, 1, axis=0).conj()  # at corner k: incoming edge k - 1
+        angles = 180.0 - np.degrees(np.angle(turn))
+        local = z[1:] - z[0]
+        areas = 0.5 * (local[:-1].conj() * local[1:]).imag.sum(axis=0)
+        diam2 = np.max(np.abs(z[:, None, :] - z[None, :, :]) ** 2, axis=(0, 1))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            aspect = np.where(areas > 0, diam2 / np.where(areas > 0, areas, 1.0), np.inf)
+        yield angles, aspect
