@@ -296,7 +296,10 @@ def _build_block_by_block(base: Mesh, neighbour: np.ndarray, level: int, progres
             start = int(plan.offsets[step, block])
             target = points[start : start + int(plan.counts[step, block])]
             # The nodes this block numbers, in its order (a lower block has the others).
-            target[:] = local[lo:hi][numbered[lo:hi]] if shares else local[lo:hi]
+            if shares:
+                np.compress(numbered[lo:hi], local[lo:hi], out=target)
+            else:
+                target[:] = local[lo:hi]
         np.take(
             ids,
             template.cells,

@@ -43,6 +43,7 @@ __all__ = [
     "cached_template_bytes",
     "node_count",
     "pentagon_template",
+    "template_is_alive",
 ]
 
 #: Templates kept for reuse after their refinement returns, at most this many bytes in all
@@ -253,6 +254,18 @@ def cached_template_bytes() -> int:
     True
     """
     return _CACHE.kept_bytes()
+
+
+def template_is_alive(level: int) -> bool:
+    """Whether the template of ``level`` is in memory now (cached, or in use somewhere).
+
+    Examples
+    --------
+    >>> _ = pentagon_template(2)
+    >>> template_is_alive(2)
+    True
+    """
+    return _CACHE.get(level) is not None
 
 
 def pentagon_template(level: int) -> PentagonTemplate:
