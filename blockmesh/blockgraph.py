@@ -1,7 +1,8 @@
 """The block graph: blocks as nodes, shared block edges as graph edges (networkx).
 
-Refinement numbers the nodes of a shared edge once, through this adjacency; the conformity
-certificate of ``blockmesh check`` is read off it.
+The graph is for users who want to walk a domain's blocks with networkx (neighbours, paths,
+colourings, partitions). The conformity certificate of ``blockmesh check`` is computed with the
+same topology primitives as validation and refinement (:mod:`blockmesh.topology`).
 
 Examples
 --------
@@ -20,7 +21,7 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
-from .topology import count_loops
+from .topology import connected_pieces, count_loops
 
 __all__ = ["block_graph", "certificate"]
 
@@ -73,12 +74,11 @@ def certificate(domain) -> dict[str, Any]:
     >>> c["euler_characteristic"], c["holes"], c["valid"]
     (0, 1, True)
     """
-    graph = block_graph(domain)
     angles = domain.block_angles()
     areas = domain.block_areas()
     n_edges = domain.n_shared_edges + domain.boundary_edges.shape[0]
     euler = domain.n_vertices - n_edges + domain.n_blocks
-    components = nx.number_connected_components(graph)
+    components, _ = connected_pieces(domain._neighbour)
     loops = count_loops(domain.boundary_edges)
     blocks = [
         {

@@ -15,16 +15,19 @@ True
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import signal
 import sys
+import threading
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 from . import __version__
 from .commands import SUMMARIES, load
 from .errors import BlockMeshError
 
-__all__ = ["build_parser", "main"]
+__all__ = ["Terminated", "build_parser", "main"]
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
@@ -53,27 +56,94 @@ def _show_warning(message, *_details: object, **_where: object) -> None:
     print(f"blockmesh: warning: {message}", file=sys.stderr)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP arrived: unwound like Ctrl-C, so no output is left half-written."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _terminate(signum: int, _frame: object) -> None:
+    raise Terminated(signum)
+
+
+@contextlib.contextmanager
+def _signals_as_interrupts() -> Iterator[None]:
+    """SIGTERM and SIGHUP raise :class:`Terminated` while a command runs (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    wanted = [getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
+    previous = {signum: signal.signal(signum, _terminate) for signum in wanted}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the process exit code (0 on success)."""
+    """Run the command line; returns the process exit code (0 on success).
+
+    Exit codes: 0 success, 1 a check or tolerance that did not pass, 2 an error in the input or
+    the request (one readable line on stderr), 3 an unexpected internal error (a bug: set
+    ``BLOCKMESH_DEBUG=1`` to see its traceback), 130 Ctrl-C, 128 + N for signal N
+    (SIGTERM 143, SIGHUP 129).
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
     chosen = next((a for a in argv if not a.startswith("-")), "")
     parser = build_parser(chosen if chosen in SUMMARIES else "")
     args = parser.parse_args(argv)
-    with warnings.catch_warnings():
+    where = f"blockmesh {args.command}"
+    with warnings.catch_warnings(), _signals_as_interrupts():
         warnings.showwarning = _show_warning
         try:
             return int(args.run(args))
         except BlockMeshError as error:
-            print(f"blockmesh {args.command}: error: {error}", file=sys.stderr)
+            print(f"{where}: error: {_printable(str(error))}", file=sys.stderr)
             return 2
+        except Terminated as stop:
+            print(f"{where}: terminated by signal {stop.signum}", file=sys.stderr)
+            return 128 + stop.signum
         except KeyboardInterrupt:
-            print(f"blockmesh {args.command}: interrupted", file=sys.stderr)
+            print(f"{where}: interrupted", file=sys.stderr)
             return 130
         except BrokenPipeError:
             # The reader went away (e.g. `| head`): stop quietly, as Unix tools do.
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, sys.stdout.fileno())
             return 141
+        except MemoryError:
+            print(
+                f"{where}: error: ran out of memory; try a lower level or free memory "
+                "(--max-memory sets the limit the size checks use)",
+                file=sys.stderr,
+            )
+            return 2
+        except RecursionError:
+            print(f"{where}: error: the input is nested too deeply to read", file=sys.stderr)
+            return 2
+        except OSError as error:
+            target = f" {error.filename}" if error.filename else ""
+            print(f"{where}: error:{target}: {error.strerror or error}", file=sys.stderr)
+            return 2
+        except Exception as error:
+            if os.environ.get("BLOCKMESH_DEBUG"):
+                raise
+            print(
+                f"{where}: internal error ({type(error).__name__}: {_printable(str(error))}); "
+                "this is a bug in blockmesh: please report it with the command you ran "
+                "(BLOCKMESH_DEBUG=1 shows the traceback)",
+                file=sys.stderr,
+            )
+            return 3
+
+
+def _printable(text: str) -> str:
+    from .commands._common import printable
+
+    return printable(text, keep="\n")
 
 
 if __name__ == "__main__":  # pragma: no cover

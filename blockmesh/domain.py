@@ -82,7 +82,7 @@ class Domain:
     region_names: tuple[str, ...]
     description: str = ""
     layout: str = "blocks"
-    _neighbour: np.ndarray = field(default=None, repr=False)
+    _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
         vertices = parse_points(self.vertices, "vertex")
@@ -356,8 +356,16 @@ class Domain:
 
 # ---------------------------------------------------------------------- helpers
 def _check_text(value: object, what: str) -> str:
+    """``value`` if it is a string without control characters (new lines allowed but in names)."""
     if not isinstance(value, str):
         raise DomainFormatError(f"the domain's {what} must be a string, got {value!r}")
+    allowed = "" if what == "name" else "\n\t"
+    for position, char in enumerate(value):
+        if not char.isprintable() and char not in allowed:
+            raise DomainFormatError(
+                f"the domain's {what} has the control character {char!r} at position "
+                f"{position}; use printable text"
+            )
     return value
 
 

@@ -1,12 +1,13 @@
 """The memory a whole command needs, predicted before anything big is allocated.
 
 A mesh's counts are known in closed form before it is built
-(:func:`blockmesh.refinement.predict_size`), and every stage of a command needs memory in proportion to them: the refinement its output plus
-one block's working arrays (and the template of the level, unless cached), the quality report
-almost nothing (it runs in cache-sized chunks), each export format what its writer builds on top of
-the mesh, the pictures their figures. :func:`predict_mesh_command` adds these up stage by stage on
-top of what the process holds now (its resident set, read from ``/proc``) and of the libraries a
-stage still has to import, and gives the peak of the whole command and the stage where it falls.
+(:func:`blockmesh.refinement.predict_size`), and every stage of a command needs memory in
+proportion to them: the refinement its output plus one block's working arrays (and the template
+of the level, unless cached), the quality report almost nothing (it runs in cache-sized chunks),
+each export format what its writer builds on top of the mesh, the pictures their figures.
+:func:`predict_mesh_command` adds these up stage by stage on top of what the process holds now
+(its resident set, read from ``/proc``) and of the libraries a stage still has to import, and
+gives the peak of the whole command and the stage where it falls.
 
 The bytes per cell of each stage are measured, not guessed: ``python benchmarks/bench_memory.py
 --calibrate`` measures each stage's extra resident memory at two levels and prints the table
@@ -165,13 +166,18 @@ def refinement_working_bytes(n_blocks: int, steps: int, *, smooth: int = 0) -> i
     """Bytes a refinement holds besides its output: working arrays and the level's template.
 
     One block's coordinates (16 bytes per template node), ids (8) and ownership mask (1) when the
-    blocks are refined one by one; every block's at once for small levels and for smoothing.
+    blocks are refined one by one; every block's at once for small levels and for smoothing; none
+    for a single block, whose coordinates are computed in place.
     The template (about :data:`TEMPLATE_BYTES_PER_CELL` bytes per cell of the level) is counted
     unless the template cache already holds it.
     """
     nodes = node_count(steps)
-    at_once = smooth or n_blocks == 1 or 6**steps < 6**5
-    working = 25 * nodes * (n_blocks if at_once and n_blocks > 1 else 1)
+    if n_blocks == 1 and not smooth:
+        working = 0  # one block: its working coordinates are the output
+    elif smooth or 6**steps < 6**5:
+        working = 41 * nodes * n_blocks  # all blocks at once: coordinates, ids, masks
+    else:
+        working = 25 * nodes  # one block at a time: coordinates, ids, ownership mask
     if smooth:
         working += 200 * n_blocks * 6**steps  # the sparse adjacency of each level's sweeps
     if not template_is_alive(steps):
@@ -270,7 +276,7 @@ def check_fits(
     >>> def predict(level):
     ...     return predict_mesh_command(predict_size(1, 5, 0, 5, level, level), n_blocks=1,
     ...                                 baseline=10**8)
-    >>> check_fits(predict, 9, 2 * 10**9, what="sp")  # doctest: +ELLIPSIS
+    >>> check_fits(predict, 9, 10**9, what="sp")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
     blockmesh.errors.ResourceError: sp at level 9 needs about ... at its peak (refinement) ...

@@ -223,7 +223,7 @@ class Mesh:
             bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
             raise ArgumentError(f"point {bad} {self.points[bad].tolist()} is not finite")
         for start in range(0, self.n_cells, _CHUNK):
-            areas = signed_area(self.points[self.cells[start : start + _CHUNK]])
+            areas = signed_area(self._local_corners(start, start + _CHUNK))
             if not np.all(areas > 0):
                 bad = start + int(np.flatnonzero(~(areas > 0))[0])
                 raise ArgumentError(

@@ -15,15 +15,23 @@ import numpy as np
 from ..domain import Domain
 from ..errors import BlockMeshError, DomainFormatError, ExportError
 from ..loading import load_domain, parse_polygon_string
+from ..mesh import Mesh
 
 __all__ = [
     "ProgressBar",
     "add_domain_arguments",
     "check_folders",
+    "fill_template",
     "inline_polygon",
+    "is_mesh_file",
+    "load_target",
     "parse_size",
+    "plural",
     "print_json",
+    "printable",
     "resolve_domain",
+    "resolve_target",
+    "safe_component",
 ]
 
 
@@ -44,12 +52,27 @@ def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False)
 
 
 def resolve_domain(args: argparse.Namespace) -> Domain:
-    """The one domain named on the command line (``DOMAIN`` or ``--polygon``)."""
-    domain = args.domain
-    if isinstance(domain, list):
-        if len(domain) > 1:
-            raise BlockMeshError("this command takes one DOMAIN")
-        domain = domain[0] if domain else None
+    """The one domain named on the command line (``DOMAIN`` or ``--polygon``).
+
+    A mesh file (``.vtu``, ``.xdmf``, ``.npz``, …) is refused with a message saying so; commands
+    that also work on meshes use :func:`resolve_target`.
+    """
+    target = resolve_target(args)
+    if isinstance(target, Mesh):
+        raise BlockMeshError(
+            f"{_one_name(args)} is a mesh file, not a domain; this command needs a domain "
+            "(a catalogue name, a .toml file or --polygon)"
+        )
+    return target
+
+
+def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
+    """The domain named on the command line, or the mesh in a mesh file blockmesh reads.
+
+    A refined mesh is a valid thing to check, integrate over or refine further, so ``DOMAIN``
+    may be any file :func:`blockmesh.read` reads (its extension says which).
+    """
+    domain = _one_name(args)
     if args.polygon is not None and domain:
         raise BlockMeshError("give either DOMAIN or --polygon, not both")
     if args.polygon is not None:
@@ -59,7 +82,43 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
             'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
             "(see 'blockmesh catalogue')"
         )
-    return load_domain(domain)
+    return load_target(domain)
+
+
+def _one_name(args: argparse.Namespace) -> str | None:
+    domain = args.domain
+    if isinstance(domain, list):
+        if len(domain) > 1:
+            raise BlockMeshError("this command takes one DOMAIN")
+        domain = domain[0] if domain else None
+    return domain
+
+
+def is_mesh_file(name: str) -> bool:
+    """Whether ``name`` is an existing file (or OpenFOAM case) in a format blockmesh reads."""
+    from ..io import FORMATS
+
+    path = Path(name)
+    if not path.exists():
+        return False
+    suffix = path.suffix.lower()
+    extensions = {ext for fmt in FORMATS.values() if fmt.can_read for ext in fmt.extensions}
+    return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())
+
+
+def load_target(name: str) -> Domain | Mesh:
+    """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`."""
+    if not is_mesh_file(name):
+        return load_domain(name)
+    from ..io import read
+
+    try:
+        return read(name)
+    except ExportError as error:
+        raise ExportError(
+            f"{error}. If {name} is a triangle or quadrilateral mesh rather than one blockmesh "
+            "wrote, turn it into pentagonal blocks with 'blockmesh convert'"
+        ) from None
 
 
 def inline_polygon(text: str) -> Domain:
@@ -71,17 +130,95 @@ def inline_polygon(text: str) -> Domain:
     return Domain.from_polygon(corners, name="polygon")
 
 
+#: The fields an output path may contain, e.g. ``out/{name}-{level}.vtu``.
+TEMPLATE_FIELDS = ("{name}", "{level}")
+
+
 def check_folders(*targets: str | None) -> None:
-    """Fail now, not after the work, when an output's folder is missing (``{name}`` allowed)."""
+    """Fail now, not after the work, when an output's folder is missing.
+
+    A templated output (with ``{name}`` or ``{level}``) gets its folders when it is filled in
+    (:func:`fill_template`), so only the part of its folder before the first field must exist.
+    """
     for target in targets:
         if not target:
             continue
         folder = Path(target).absolute().parent
-        if "{" not in str(folder) and not folder.is_dir():
+        if any(field in str(folder) for field in TEMPLATE_FIELDS):
+            continue
+        if not folder.is_dir():
+            if is_templated(target):
+                continue
             raise ExportError(
                 f"cannot write {target}: the directory {folder} does not exist; create it first "
                 f"(mkdir -p {folder})"
             )
+
+
+def is_templated(pattern: str) -> bool:
+    """Whether an output path contains a template field."""
+    return any(field in pattern for field in TEMPLATE_FIELDS)
+
+
+def safe_component(text: str) -> str:
+    """``text`` as one harmless path component: letters, digits, ``_ - .``; no ``..``, no ``/``.
+
+    A domain file chooses its own name, so ``{name}`` must not let it choose where output goes.
+
+    Examples
+    --------
+    >>> safe_component("../../ESCAPED"), safe_component("l-shape"), safe_component("a b/c")
+    ('ESCAPED', 'l-shape', 'a_b_c')
+    """
+    cleaned = "".join(c if c.isascii() and (c.isalnum() or c in "_-.") else "_" for c in text)
+    cleaned = cleaned.strip("._") or "domain"
+    while ".." in cleaned:
+        cleaned = cleaned.replace("..", ".")
+    return cleaned
+
+
+def fill_template(pattern: str, *, name: str, level: int) -> str:
+    """``pattern`` with ``{name}`` and ``{level}`` filled in, its missing folders created.
+
+    The name is made a safe single path component first (:func:`safe_component`).
+
+    Examples
+    --------
+    >>> fill_template("{name}-{level}.vtu", name="../x", level=2)
+    'x-2.vtu'
+    """
+    filled = pattern.replace("{name}", safe_component(name)).replace("{level}", str(int(level)))
+    if is_templated(pattern):
+        folder = Path(filled).parent
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise ExportError(
+                f"cannot create the folder {folder} for {filled}: {error.strerror}"
+            ) from None
+    return filled
+
+
+def plural(count: int, noun: str) -> str:
+    """``"1 block"``, ``"2 blocks"``, ``"1,296 cells"``.
+
+    Examples
+    --------
+    >>> plural(1, "block"), plural(1296, "cell")
+    ('1 block', '1,296 cells')
+    """
+    return f"{count:,} {noun}{'' if count == 1 else 's'}"
+
+
+def printable(text: str, *, keep: str = "") -> str:
+    r"""``text`` with control characters shown as escapes, safe to print on a terminal.
+
+    Examples
+    --------
+    >>> print(printable("ring\x1b[2J"))
+    ring\x1b[2J
+    """
+    return "".join(c if c.isprintable() or c in keep else repr(c)[1:-1] for c in text)
 
 
 def _plain(value: Any) -> Any:
@@ -120,7 +257,7 @@ def parse_size(text: str) -> int:
         value = float(number)
     except ValueError:
         value = -1.0
-    if unit not in _UNITS or value <= 0:
+    if unit not in _UNITS or not math.isfinite(value) or value <= 0 or value * _UNITS[unit] > 2**62:
         raise argparse.ArgumentTypeError(
             f"{text!r} is not a size; write e.g. 8G, 500MB, 2GiB or a number of bytes"
         )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from ..catalogue import catalogue_names
 from ..loading import load_domain
@@ -22,7 +23,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh catalogue`` with the parsed ``args``; returns the exit code."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     for name in catalogue_names():
         domain = load_domain(name)
         rows.append(

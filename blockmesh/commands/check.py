@@ -6,9 +6,13 @@ import argparse
 import sys
 import warnings
 
+import numpy as np
+
 from ..blockgraph import certificate
+from ..domain import Domain
 from ..errors import BlockMeshError
-from ._common import add_domain_arguments, print_json, resolve_domain
+from ..mesh import Mesh
+from ._common import add_domain_arguments, print_json, printable, resolve_target
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -32,7 +36,8 @@ def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            domain = resolve_domain(args)
+            target = resolve_target(args)
+            domain = target if isinstance(target, Domain) else domain_of_mesh(target)
         except BlockMeshError as error:
             problems = str(error).splitlines()
             if args.json:
@@ -45,7 +50,11 @@ def run(args: argparse.Namespace) -> int:
                     }
                 )
             else:
-                print(f"blockmesh check: {name} is not valid: {error}", file=sys.stderr)
+                shown = printable(str(name))
+                print(
+                    f"blockmesh check: {shown} is not valid: {printable(str(error))}",
+                    file=sys.stderr,
+                )
             return 1
     report = certificate(domain)
     report["warnings"] = [str(w.message) for w in caught]
@@ -56,14 +65,43 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+#: Blocks listed one per line in the text certificate (all of them are in the JSON).
+_LISTED = 40
+
+
+def domain_of_mesh(mesh: Mesh) -> Domain:
+    """A mesh's cells as the blocks of a Domain, checked like any domain (patches, regions kept)."""
+    patches = {
+        name: mesh.patch_edges(name).tolist()
+        for name in mesh.patch_names
+        if np.any(mesh.boundary_patch == mesh.patch_names.index(name))
+    }
+    regions = {
+        name: np.flatnonzero(mesh.region == k).tolist()
+        for k, name in enumerate(mesh.region_names)
+        if np.any(mesh.region == k)
+    }
+    return Domain.from_blocks(
+        mesh.points,
+        mesh.cells,
+        patches,
+        regions,
+        name=mesh.name or "mesh",
+        description=f"a level-{mesh.level} mesh read from a file",
+        layout=f"mesh, level {mesh.level}",
+    )
+
+
 def _print_certificate(c: dict) -> None:
-    print(f"domain {c['domain']}: valid ({c['layout']})")
+    print(f"domain {printable(c['domain'])}: valid ({c['layout']})")
     print(f"  blocks {c['blocks']}, vertices {c['vertices']}, area {c['area']:.12g}")
     print(f"  shared edges {c['shared_edges']}, boundary edges {c['boundary_edges']}")
     for patch, count in c["patches"].items():
         print(f"    patch {patch}: {count} edge{'s' if count != 1 else ''}")
     for region, blocks in c["regions"].items():
-        print(f"    region {region}: blocks {', '.join(map(str, blocks))}")
+        listed = ", ".join(map(str, blocks[:_LISTED]))
+        more = f" ... ({len(blocks):,} in all)" if len(blocks) > _LISTED else ""
+        print(f"    region {region}: blocks {listed}{more}")
     print(
         f"  Euler characteristic {c['euler_characteristic']} "
         f"({c['connected_components']} piece, {c['holes']} hole{'s' if c['holes'] != 1 else ''})"
@@ -73,11 +111,13 @@ def _print_certificate(c: dict) -> None:
     print(f"  counter-clockwise blocks {ccw}/{c['blocks']}, strictly convex {convex}/{c['blocks']}")
     print(f"  angles {c['min_angle']:.2f}° .. {c['max_angle']:.2f}°")
     print("  block  vertices                   area         min°     max°")
-    for b in c["block_details"]:
+    for b in c["block_details"][:_LISTED]:
         vertices = " ".join(f"{v:>4}" for v in b["vertices"])
         print(
             f"  {b['block']:>5}  {vertices}  {b['area']:>11.6g}  {b['min_angle']:7.2f}  "
             f"{b['max_angle']:7.2f}"
         )
+    if c["blocks"] > _LISTED:
+        print(f"  ... and {c['blocks'] - _LISTED:,} more blocks (all of them with --json)")
     for message in c["warnings"]:
         print(f"  warning: {message}")

@@ -18,16 +18,22 @@ from typing import Any
 from ..domain import Domain
 from ..errors import BlockMeshError
 from ..io import SPLITS, format_for_path
-from ..loading import load_domain
+from ..mesh import Mesh
 from ..refinement import NUMBERINGS, refine
 from ._common import (
     ProgressBar,
     add_domain_arguments,
     check_folders,
+    fill_template,
     inline_polygon,
+    load_target,
     parse_size,
     print_json,
+    printable,
 )
+
+#: The level meshed when none is given (as ``blockmesh integrate``).
+DEFAULT_LEVEL = 2
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -39,7 +45,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "pentagons. Prints counts and quality; draws and writes the mesh on request.",
     )
     add_domain_arguments(parser, many=True)
-    parser.add_argument("--level", "-l", type=int, required=True, metavar="L", help="levels")
+    parser.add_argument(
+        "--level",
+        "-l",
+        type=int,
+        default=DEFAULT_LEVEL,
+        metavar="L",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+    )
     parser.add_argument(
         "--numbering",
         choices=NUMBERINGS,
@@ -84,59 +97,67 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # ---------------------------------------------------------------------------- one domain
 def _mesh_one(
-    domain: Domain, options: dict[str, Any], output: str | None, progress=None
+    target: Domain | Mesh, options: dict[str, Any], output: str | None, progress=None
 ) -> dict[str, Any]:
-    """Mesh, draw and write one domain; returns the JSON-ready report."""
+    """Mesh, draw and write one domain (or refine a mesh further); the JSON-ready report."""
     started = time.perf_counter()
     mesh = refine(
-        domain,
+        target,
         options["level"],
         smooth=options["smooth"],
         max_memory=options["max_memory"],
         progress=progress,
     )
     seconds = time.perf_counter() - started
-    bandwidth = {"nested": mesh.bandwidth()}
+    bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
     if options["numbering"] == "rcm":
         mesh = mesh.with_rcm_numbering()
         bandwidth["rcm"] = mesh.bandwidth()
+    quality = mesh.quality()
+    if quality.not_strictly_convex:
+        mesh.check_geometry()  # names the first broken cell; never report a broken mesh as made
     report = {
-        "domain": domain.name,
+        "domain": mesh.name,
         "level": mesh.level,
         "nodes": mesh.n_points,
         "cells": mesh.n_cells,
         "edges": mesh.n_edges,
         "boundary_edges": int(mesh.boundary_edges.shape[0]),
         "area": mesh.area,
-        "quality": mesh.quality().as_dict(),
+        "quality": quality.as_dict(),
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
         "seconds": seconds,
+        "plot": None,
+        "quality_plot": None,
+        "output": None,
     }
     if options["plot"]:
         from ..plot import plot_mesh
 
-        report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], domain, mesh)))
+        report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], mesh)))
     if options["quality_plot"]:
         from ..plot import plot_quality
 
-        report["quality_plot"] = str(
-            plot_quality(mesh, _fill(options["quality_plot"], domain, mesh))
-        )
+        report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
     if output:
         from ..io import write
 
         report["output"] = str(
             write(
-                mesh, _fill(output, domain, mesh), format=options["format"], split=options["split"]
+                mesh,
+                _fill(output, mesh),
+                format=options["format"],
+                split=options["split"],
+                compression=options["compression"],
             )
         )
     return report
 
 
-def _fill(pattern: str, domain: Domain, mesh) -> str:
-    return pattern.replace("{name}", domain.name).replace("{level}", str(mesh.level))
+def _fill(pattern: str, mesh: Mesh) -> str:
+    return fill_template(pattern, name=mesh.name or "mesh", level=mesh.level)
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
@@ -168,7 +189,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
 def _print_report(report: dict[str, Any]) -> None:
     q = report["quality"]
     print(
-        f"{report['domain']}: level {report['level']}, {report['cells']:,} cells, "
+        f"{printable(report['domain'])}: level {report['level']}, {report['cells']:,} cells, "
         f"{report['nodes']:,} nodes, {report['edges']:,} edges "
         f"({report['boundary_edges']:,} on the boundary), area {report['area']:.12g}"
     )
@@ -179,11 +200,11 @@ def _print_report(report: dict[str, Any]) -> None:
     )
     bandwidth = report["bandwidth"]
     line = f"  bandwidth {bandwidth['nested']:,} (nested)"
-    if "rcm" in bandwidth:
+    if bandwidth["rcm"] is not None:
         line += f" -> {bandwidth['rcm']:,} (reverse Cuthill-McKee)"
     print(line + f"; refined in {report['seconds']:.3f} s")
     for key, label in (("plot", "plot"), ("quality_plot", "quality plot"), ("output", "mesh")):
-        if key in report:
+        if report[key]:
             print(f"  wrote {label} {report[key]}")
 
 
@@ -203,7 +224,7 @@ def _expand(names: list[str]) -> list[str]:
 
 def _batch_worker(name: str, options: dict[str, Any], output: str | None) -> dict[str, Any]:
     try:
-        return {"ok": True, **_mesh_one(load_domain(name), options, output)}
+        return {"ok": True, **_mesh_one(load_target(name), options, output)}
     except BlockMeshError as error:
         return {"ok": False, "domain": name, "error": str(error)}
 
@@ -237,15 +258,20 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
         for r in results:
             if r["ok"]:
                 q = r["quality"]
+                written = [r[k] for k in ("output", "plot", "quality_plot") if r[k]]
                 print(
-                    f"{r['domain']:<16} {r['cells']:>12,} {r['nodes']:>12,} {q['min_angle']:>7.2f} "
-                    f"{q['max_angle']:>7.2f} {r['seconds']:>7.3f}  {r.get('output', '-')}"
+                    f"{printable(r['domain']):<16} {r['cells']:>12,} {r['nodes']:>12,} "
+                    f"{q['min_angle']:>7.2f} {q['max_angle']:>7.2f} {r['seconds']:>7.3f}  "
+                    f"{', '.join(written) or '-'}"
                 )
             else:
-                print(f"{r['domain']:<16} FAILED: {r['error']}")
+                print(f"{printable(r['domain']):<16} FAILED: {printable(r['error'])}")
         print(f"{len(results) - len(failures)} of {len(results)} domains meshed")
     for r in failures:
-        print(f"blockmesh mesh: {r['domain']}: error: {r['error']}", file=sys.stderr)
+        print(
+            f"blockmesh mesh: {printable(r['domain'])}: error: {printable(r['error'])}",
+            file=sys.stderr,
+        )
     return 1 if failures else 0
 
 
@@ -264,9 +290,9 @@ def run(args: argparse.Namespace) -> int:
         domains = _expand(args.domain)
     if len(domains) > 1:
         return _run_batch(domains, options, args)
-    domain = inline_polygon(args.polygon) if args.polygon is not None else load_domain(domains[0])
-    bar = ProgressBar(f"{domain.name}: refining", enabled=ProgressBar.wanted(args))
-    report = _mesh_one(domain, options, args.output, progress=bar)
+    target = inline_polygon(args.polygon) if args.polygon is not None else load_target(domains[0])
+    bar = ProgressBar(f"{printable(target.name)}: refining", enabled=ProgressBar.wanted(args))
+    report = _mesh_one(target, options, args.output, progress=bar)
     if args.json:
         print_json(report)
     else:

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..plot import plot_domain
-from ._common import add_domain_arguments, resolve_domain
+from ..mesh import Mesh
+from ..plot import plot_domain, plot_mesh
+from ._common import add_domain_arguments, plural, printable, resolve_target, safe_component
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -14,16 +15,25 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "show",
         help="draw a domain's blocks, vertices and patches",
         description="Draw the blocks (numbered), vertices (numbered), regions (shaded) and "
-        "patches (coloured, with a legend) of a domain: what to look at before meshing.",
+        "patches (coloured, with a legend) of a domain: what to look at before meshing. A mesh "
+        "file is drawn as a mesh.",
     )
     add_domain_arguments(parser)
-    parser.add_argument("-o", "--output", required=True, metavar="FILE.png", help="picture file")
+    parser.add_argument(
+        "-o", "--output", metavar="FILE.png", help="picture file (default: NAME.png, here)"
+    )
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh show`` with the parsed ``args``; returns the exit code."""
-    domain = resolve_domain(args)
-    path = plot_domain(domain, args.output)
-    print(f"wrote {path} ({domain.name}: {domain.n_blocks} blocks)")
+    target = resolve_target(args)
+    output = args.output or f"{safe_component(target.name or 'mesh')}.png"
+    if isinstance(target, Mesh):
+        path = plot_mesh(target, output)
+        what = f"level {target.level}, {plural(target.n_cells, 'cell')}"
+    else:
+        path = plot_domain(target, output)
+        what = plural(target.n_blocks, "block")
+    print(f"wrote {path} ({printable(target.name)}: {what})")
     return 0

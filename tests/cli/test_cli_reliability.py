@@ -1,0 +1,165 @@
+"""The command line under hostile or unlucky input: outputs go where sent, no tracebacks."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from helpers import run_cli
+
+import blockmesh
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+def test_a_domain_name_cannot_choose_where_output_goes(tmp_path, capsys, monkeypatch):
+    domain = _write(tmp_path / "d.toml", 'name = "../../ESCAPED"\npolygon = [[0,0],[1,0],[0,1]]\n')
+    work = tmp_path / "a" / "b"
+    work.mkdir(parents=True)
+    monkeypatch.chdir(work)
+    code, out, err = run_cli(capsys, "mesh", str(domain), "--level", "1", "-o", "out/{name}.vtu")
+    assert code == 0, err
+    assert (work / "out" / "ESCAPED.vtu").is_file()
+    written = sorted(p.name for p in tmp_path.rglob("*.vtu"))
+    assert written == ["ESCAPED.vtu"]
+
+
+@pytest.mark.parametrize("name", ["ev\x1b[2Jil", "bell\x07", "two\nlines"])
+def test_control_characters_in_names_are_refused(tmp_path, capsys, name):
+    domain = _write(
+        tmp_path / "d.toml", f"name = {json.dumps(name)}\npolygon = [[0,0],[1,0],[0,1]]\n"
+    )
+    code, out, err = run_cli(capsys, "check", str(domain))
+    assert code == 1 and "control character" in err
+    assert "\x1b" not in err and "\x07" not in err
+
+
+def test_templated_outputs_get_their_folders_and_the_summary_lists_them(tmp_path, capsys):
+    pattern = str(tmp_path / "out" / "{name}-{level}.png")
+    code, out, err = run_cli(capsys, "mesh", "sp", "usp", "--level", "1", "--plot", pattern)
+    assert code == 0, err
+    for name in ("sp", "usp"):
+        picture = tmp_path / "out" / f"{name}-1.png"
+        assert picture.read_bytes()[:4] == b"\x89PNG"
+        assert str(picture) in out
+
+
+def test_a_missing_folder_without_template_fails_before_the_work(tmp_path, capsys):
+    code, out, err = run_cli(capsys, "mesh", "sp", "-o", str(tmp_path / "nope" / "m.vtu"))
+    assert code == 2 and "does not exist" in err and "mkdir -p" in err
+
+
+@pytest.mark.parametrize("level", ["300", "1000"])
+def test_absurd_levels_are_refused_readably(capsys, level):
+    code, out, err = run_cli(capsys, "mesh", "sp", "--level", level)
+    assert code == 2 and out == ""
+    assert "needs about 10^" in err and "largest level that fits" in err
+    assert len(err) < 400 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("size", ["inf", "nan", "-1G", "1e400", "lots"])
+def test_bad_memory_limits_are_refused(capsys, size):
+    with pytest.raises(SystemExit) as stop:
+        run_cli(capsys, "mesh", "sp", f"--max-memory={size}")
+    assert stop.value.code == 2
+    assert "is not a size" in capsys.readouterr().err
+
+
+def test_a_square_far_from_the_origin_is_refused_not_broken(tmp_path, capsys):
+    polygon = "1e15,0 1000000000000001,0 1000000000000001,1 1e15,1"
+    target = tmp_path / "far.vtu"
+    code, out, err = run_cli(
+        capsys, "mesh", "--polygon", polygon, "--level", "2", "-o", str(target)
+    )
+    assert code == 2 and "double precision" in err and "near the origin" in err
+    assert not target.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_a_square_at_1e9_meshes_with_valid_cells(capsys):
+    polygon = "1e9,0 1000000001,0 1000000001,1 1e9,1"
+    code, out, err = run_cli(capsys, "mesh", "--polygon", polygon, "--level", "3", "--json")
+    report = json.loads(out)
+    assert code == 0, err
+    assert report["quality"]["not_strictly_convex"] == 0
+    assert report["area"] == pytest.approx(1.0, rel=1e-6)
+
+
+def test_mesh_defaults_to_level_2_and_json_keys_are_always_there(capsys):
+    code, out, _ = run_cli(capsys, "mesh", "sp", "--json")
+    report = json.loads(out)
+    assert code == 0 and report["level"] == 2 and report["cells"] == 36
+    assert report["plot"] is None and report["output"] is None and report["quality_plot"] is None
+    assert report["bandwidth"]["rcm"] is None
+
+
+@pytest.mark.parametrize("suffix", [".npz", ".vtu"])
+def test_mesh_files_are_targets_for_check_mesh_and_show(tmp_path, capsys, monkeypatch, suffix):
+    path = tmp_path / f"l{suffix}"
+    blockmesh.write(blockmesh.load_domain("l-shape").mesh(1), path)
+    code, out, err = run_cli(capsys, "check", str(path), "--json")
+    report = json.loads(out)
+    assert code == 0, err
+    assert report["valid"] and report["blocks"] == 24 * 6 and report["patches"]["inlet"] == 4
+    code, out, err = run_cli(capsys, "mesh", str(path), "--level", "1", "--json")
+    assert code == 0 and json.loads(out)["level"] == 2 and json.loads(out)["cells"] == 24 * 36
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run_cli(capsys, "show", str(path))
+    assert code == 0 and (tmp_path / "l-shape.png").is_file()
+
+
+def test_a_file_that_is_not_a_blockmesh_mesh_says_so(tmp_path, capsys):
+    path = tmp_path / "junk.npz"
+    np.savez(path, a=np.arange(3))
+    code, out, err = run_cli(capsys, "check", str(path))
+    assert code == 1 and "blockmesh convert" in err and "Traceback" not in err
+
+
+def test_show_writes_name_png_by_default(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out, _ = run_cli(capsys, "show", "sp")
+    assert code == 0 and "(sp: 1 block)" in out and (tmp_path / "sp.png").is_file()
+
+
+def test_sigterm_during_a_write_unwinds_like_ctrl_c(tmp_path, capsys, monkeypatch):
+    target = tmp_path / "m.vtu"
+    target.write_bytes(b"old")
+
+    def die_instead_of_renaming(*_args):
+        os.kill(os.getpid(), signal.SIGTERM)  # the new file is complete, not yet in place
+
+    monkeypatch.setattr(os, "replace", die_instead_of_renaming)
+    code, out, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(target))
+    assert code == 128 + signal.SIGTERM and "terminated by signal" in err
+    assert target.read_bytes() == b"old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.vtu"]
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+def test_python_dash_m_blockmesh_runs_the_command_line():
+    done = subprocess.run(
+        [sys.executable, "-m", "blockmesh", "--version"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert done.returncode == 0 and done.stdout.startswith("blockmesh ")
+
+
+def test_unexpected_errors_are_one_line_not_a_traceback(capsys, monkeypatch):
+    def broken(*_args, **_kwargs):
+        raise ZeroDivisionError("boom")
+
+    monkeypatch.setattr("blockmesh.commands.mesh.refine", broken)
+    monkeypatch.delenv("BLOCKMESH_DEBUG", raising=False)
+    code, out, err = run_cli(capsys, "mesh", "sp")
+    assert code == 3 and "internal error (ZeroDivisionError: boom)" in err
+    assert "Traceback" not in err
