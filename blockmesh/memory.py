@@ -279,7 +279,7 @@ def check_fits(
     >>> check_fits(predict, 9, 10**9, what="sp")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    blockmesh.errors.ResourceError: sp at level 9 needs about ... at its peak (refinement) ...
+    blockmesh.errors.ResourceError: sp at level 9 needs about ... (refinement), ... fits is 8
     """
     from .refinement import format_bytes
 
