@@ -70,7 +70,7 @@ _SPARSE = (("scipy.sparse.csgraph", 30e6),)
 #: Extra resident bytes of each stage (measured by ``benchmarks/bench_memory.py --calibrate`` on
 #: this project's machine; keys are stage names, exports as ``("export", format, split or
 #: compression)``).
-STAGE_COSTS: dict[tuple[str, ...], StageCost] = {
+STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
     ("report",): StageCost(0.0, 1e6),
     ("rcm",): StageCost(760.0, 0.0, _SPARSE),
     ("plot",): StageCost(26.0, 5e6, _PLOT),
@@ -229,7 +229,7 @@ def predict_mesh_command(
     if plot:
         from .plot import DRAW_LIMIT
 
-        key = ("plot",) if cells > DRAW_LIMIT else ("plot", "polygons")
+        key: tuple[str | None, ...] = ("plot",) if cells > DRAW_LIMIT else ("plot", "polygons")
         stages.append(("plot", base + mesh + STAGE_COSTS[key].bytes(cells)))
     if quality_plot:
         stages.append(("quality plot", base + mesh + STAGE_COSTS["quality_plot",].bytes(cells)))

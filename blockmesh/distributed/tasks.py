@@ -1,0 +1,124 @@
+"""What a worker runs for one partition; each returns only small numbers, never the mesh.
+
+These functions import nothing of Dask: a worker process calls them with the (small)
+:class:`~blockmesh.distributed.partition.Partitioning` and a partition index.
+
+Examples
+--------
+>>> import pathlib, tempfile, blockmesh
+>>> from blockmesh.distributed.partition import partition
+>>> parts = partition(blockmesh.load_domain("joined-2"), 2, 2)
+>>> result = write_piece_task(parts, 1, str(tempfile.mkdtemp()), "out.pvtu")
+>>> result["cells"], result["owned_nodes"], result["file"]
+(36, 55, 'out_0001.vtu')
+>>> round(integrate_piece_task(parts, 0, "1", 3, "paper") + integrate_piece_task(
+...     parts, 1, "1", 3, "paper"), 12) == round(blockmesh.load_domain("joined-2").area, 12)
+True
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+import zlib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..measures import measure_cells
+from ..memory import peak_rss, process_rss
+from .files import piece_name, write_h5_piece, write_vtu_piece
+from .partition import Partitioning
+from .pieces import Piece, build_piece
+
+__all__ = ["integrate_piece_task", "piece_summary", "write_piece_task"]
+
+
+def _global_bandwidth(piece: Piece, chunk: int = 1 << 15) -> int:
+    """Largest difference of global node ids within one cell of the piece."""
+    widest = 0
+    ids = piece.global_node_ids
+    cells = piece.mesh.cells
+    for start in range(0, cells.shape[0], chunk):
+        block = np.take(ids, cells[start : start + chunk], mode="clip")
+        widest = max(widest, int((block.max(axis=1) - block.min(axis=1)).max()))
+    return widest
+
+
+def _checksum(piece: Piece) -> int:
+    """CRC-32 of the piece's coordinates, global node ids and cells in global ids."""
+    crc = zlib.crc32(np.ascontiguousarray(piece.mesh.points).data)
+    crc = zlib.crc32(np.ascontiguousarray(piece.global_node_ids).data, crc)
+    cells = piece.mesh.cells
+    chunk = 1 << 16
+    for start in range(0, cells.shape[0], chunk):
+        crc = zlib.crc32(np.take(piece.global_node_ids, cells[start : start + chunk]).data, crc)
+    return crc
+
+
+def piece_summary(piece: Piece) -> dict[str, Any]:
+    """Counts, quality extremes and checksums of a piece: what a task sends back."""
+    owned = ~piece.ghost
+    points = piece.mesh.points
+    measures = measure_cells(piece.mesh)
+    return {
+        "piece": piece.index,
+        "cells": piece.mesh.n_cells,
+        "nodes": piece.mesh.n_points,
+        "owned_nodes": piece.n_owned,
+        "boundary_edges": int(piece.mesh.boundary_edges.shape[0]),
+        "first_cell": piece.first_cell,
+        "owned_sum": [float(points[owned, 0].sum()), float(points[owned, 1].sum())],
+        "crc32": _checksum(piece),
+        "bandwidth": _global_bandwidth(piece),
+        "measures": {
+            "area": measures.area,
+            "min_area": measures.min_area,
+            "max_area": measures.max_area,
+            "min_angle": measures.min_angle,
+            "max_angle": measures.max_angle,
+            "max_aspect_ratio": measures.max_aspect_ratio,
+            "not_strictly_convex": measures.not_strictly_convex,
+            "invalid": measures.invalid,
+        },
+    }
+
+
+def write_piece_task(parts: Partitioning, piece: int, folder: str, index: str) -> dict[str, Any]:
+    """Build partition ``piece``, write it into ``folder``, and return its summary.
+
+    ``index`` is the index file's name (``out.pvtu`` or ``out.xdmf``): it fixes the piece's
+    name and format. The summary also says where it ran, how long it took and the worker's peak
+    resident memory so far.
+    """
+    started = time.perf_counter()
+    rss_before = process_rss()
+    built = build_piece(parts, piece)
+    name = piece_name(Path(index), piece)
+    path = Path(folder) / name
+    if path.suffix == ".h5":
+        write_h5_piece(built, path)
+    else:
+        write_vtu_piece(built, path)
+    summary = piece_summary(built)
+    summary.update(
+        file=name,
+        bytes=path.stat().st_size,
+        array_bytes=built.mesh.nbytes() + built.global_node_ids.nbytes + built.ghost.nbytes,
+        seconds=time.perf_counter() - started,
+        worker=f"{socket.gethostname()}:{os.getpid()}",
+        rss_before=rss_before,
+        peak_rss=peak_rss(),
+    )
+    return summary
+
+
+def integrate_piece_task(
+    parts: Partitioning, piece: int, function: Any, order: int, rule: str
+) -> float:
+    """The integral of ``function`` over partition ``piece`` (:func:`blockmesh.integrate`)."""
+    from ..quadrature import integrate
+
+    return float(integrate(build_piece(parts, piece).mesh, function, order=order, rule=rule))
