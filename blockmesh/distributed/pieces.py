@@ -123,10 +123,10 @@ def piece_nodes(parts: Partitioning, piece: int) -> tuple[np.ndarray, np.ndarray
     >>> from blockmesh.distributed.partition import partition
     >>> parts = partition(blockmesh.load_domain("joined-2"), 1, 2)
     >>> ids, ghost = piece_nodes(parts, 1)
-    >>> ids.tolist()
-    [1, 2, 5, 6, 7, 10, 11, 14, 17, 18, 19, 20, 21, 22]
+    >>> ids.tolist()  # corners 1, 2 and the midpoint 9 of the shared edge are block 0's
+    [1, 2, 5, 6, 7, 9, 18, 19, 20, 21, 22, 23, 24, 25, 26]
     >>> ghost.astype(int).tolist()
-    [1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]
+    [1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0]
     """
     layout, ghost_others = _layout(parts, piece)
     ids = np.empty(layout.n_nodes, dtype=np.int64)

@@ -10,7 +10,7 @@ Examples
 >>> parts = partition(blockmesh.load_domain("joined-2"), 2, 2)
 >>> result = write_piece_task(parts, 1, str(tempfile.mkdtemp()), "out.pvtu")
 >>> result["cells"], result["owned_nodes"], result["file"]
-(36, 55, 'out_0001.vtu')
+(36, 60, 'out_0001.vtu')
 >>> round(integrate_piece_task(parts, 0, "1", 3, "paper") + integrate_piece_task(
 ...     parts, 1, "1", 3, "paper"), 12) == round(blockmesh.load_domain("joined-2").area, 12)
 True
