@@ -33,7 +33,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -149,10 +149,13 @@ def _plain_chunk(points: np.ndarray, cells: np.ndarray, start: int, acc: _Accumu
     acc.add(start, areas, diam2, float(angles.min()), float(angles.max()), sharp)
 
 
-def measure_cells(mesh: Mesh, *, chunk: int = CHUNK) -> CellMeasures:
+def measure_cells(
+    mesh: Mesh, *, chunk: int = CHUNK, progress: Callable[[int, int], None] | None = None
+) -> CellMeasures:
     """Areas, angles, aspect ratios and convexity of every cell, in one pass of ``chunk`` cells.
 
-    O(M) time; memory O(chunk) besides the mesh.
+    O(M) time; memory O(chunk) besides the mesh. ``progress(done, total)`` is called every 256
+    chunks with the cells measured so far.
 
     Examples
     --------
@@ -204,6 +207,8 @@ def measure_cells(mesh: Mesh, *, chunk: int = CHUNK) -> CellMeasures:
             turn = np.arctan2(cross.flat[[low, high]], dot.flat[[low, high]])
             min_angle, max_angle = (180.0 - np.degrees(turn)).tolist()
             acc.add(start, areas, diam2, min_angle, max_angle, None)
+            if progress is not None and (start // chunk) % 256 == 255:
+                progress(start + m, n_cells)
     return acc.result()
 
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from .errors import ResourceError
 from .template import node_count, template_is_alive
@@ -38,6 +39,7 @@ __all__ = [
     "StageCost",
     "check_fits",
     "largest_fitting_level",
+    "mesh_command_predictor",
     "peak_rss",
     "predict_mesh_command",
     "process_rss",
@@ -53,40 +55,43 @@ class StageCost:
     while they are not imported yet.
     """
 
-    per_cell: float
-    constant: float = 0.0
-    imports: tuple[tuple[str, float], ...] = ()
+    per_cell: int
+    constant: int = 0
+    imports: tuple[tuple[str, int], ...] = ()
 
     def bytes(self, cells: int) -> int:
-        """Bytes for a mesh of ``cells`` cells, imports included where still needed."""
+        """Bytes for a mesh of ``cells`` cells, imports included where still needed.
+
+        Integer arithmetic, so that absurd levels give absurd (not overflowing) sizes.
+        """
         imports = sum(cost for module, cost in self.imports if module not in sys.modules)
-        return int(self.per_cell * cells + self.constant + imports)
+        return self.per_cell * cells + self.constant + imports
 
 
-_IO = (("blockmesh.io", 10e6),)
-_PLOT = (("matplotlib.pyplot", 45e6),)
-_SPARSE = (("scipy.sparse.csgraph", 30e6),)
+_IO = (("blockmesh.io", 10_000_000),)
+_PLOT = (("matplotlib.pyplot", 45_000_000),)
+_SPARSE = (("scipy.sparse.csgraph", 30_000_000),)
 
 #: Extra resident bytes of each stage (measured by ``benchmarks/bench_memory.py --calibrate`` on
 #: this project's machine; keys are stage names, exports as ``("export", format, split or
 #: compression)``).
 STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
-    ("report",): StageCost(0.0, 1e6),
-    ("rcm",): StageCost(760.0, 0.0, _SPARSE),
-    ("plot",): StageCost(26.0, 5e6, _PLOT),
-    ("plot", "polygons"): StageCost(900.0, 5e6, _PLOT),
-    ("quality_plot",): StageCost(42.0, 5e6, _PLOT),
-    ("export", "xdmf", "none"): StageCost(1.0, 2e6, _IO),
-    ("export", "xdmf", "zlib"): StageCost(2.0, 3e6, _IO),
-    ("export", "npz", None): StageCost(10.0, 2e6, _IO),
-    ("export", "mat", None): StageCost(345.0, 2e6, (*_IO, ("scipy.io", 20e6))),
-    ("export", "vtu", "none"): StageCost(290.0, 2e6, _IO),
-    ("export", "vtu", "zlib"): StageCost(225.0, 2e6, _IO),
-    ("export", "vtu", "lzma"): StageCost(225.0, 2e6, _IO),
-    ("export", "msh", "tri3"): StageCost(385.0, 2e6, _IO),
-    ("export", "msh", "tri5"): StageCost(620.0, 2e6, _IO),
-    ("export", "msh", "quad5"): StageCost(810.0, 2e6, _IO),
-    ("export", "openfoam", None): StageCost(435.0, 2e6, _IO),
+    ("report",): StageCost(0, 1_000_000),
+    ("rcm",): StageCost(760, 0, _SPARSE),
+    ("plot",): StageCost(26, 5_000_000, _PLOT),
+    ("plot", "polygons"): StageCost(900, 5_000_000, _PLOT),
+    ("quality_plot",): StageCost(42, 5_000_000, _PLOT),
+    ("export", "xdmf", "none"): StageCost(1, 2_000_000, _IO),
+    ("export", "xdmf", "zlib"): StageCost(2, 3_000_000, _IO),
+    ("export", "npz", None): StageCost(10, 2_000_000, _IO),
+    ("export", "mat", None): StageCost(345, 2_000_000, (*_IO, ("scipy.io", 20_000_000))),
+    ("export", "vtu", "none"): StageCost(290, 2_000_000, _IO),
+    ("export", "vtu", "zlib"): StageCost(225, 2_000_000, _IO),
+    ("export", "vtu", "lzma"): StageCost(225, 2_000_000, _IO),
+    ("export", "msh", "tri3"): StageCost(385, 2_000_000, _IO),
+    ("export", "msh", "tri5"): StageCost(620, 2_000_000, _IO),
+    ("export", "msh", "quad5"): StageCost(810, 2_000_000, _IO),
+    ("export", "openfoam", None): StageCost(435, 2_000_000, _IO),
 }
 
 #: Template bytes per cell of its level (cells, corners of every level, sources).
@@ -239,7 +244,7 @@ def predict_mesh_command(
         key = ("export", fmt, option)
         if key not in STAGE_COSTS:
             key = ("export", fmt, {"vtu": "zlib", "xdmf": "none"}.get(fmt))
-        cost = STAGE_COSTS.get(key, StageCost(0.0))
+        cost = STAGE_COSTS.get(key, StageCost(0))
         stages.append(
             (f"export ({fmt}{', ' + option if option else ''})", base + mesh + cost.bytes(cells))
         )
@@ -262,13 +267,13 @@ def check_fits(
     limit: int,
     *,
     what: str,
-    first_level: int = 0,
+    offset: int = 0,
     source: str = "the memory available now",
 ) -> MemoryPrediction:
     """The prediction at ``level``; ResourceError when its peak exceeds ``limit``.
 
     The message names the stage, the predicted size, the limit and the largest level that fits
-    (levels below ``first_level`` are not offered).
+    (levels are shown plus ``offset``: the level of the mesh being refined).
 
     Examples
     --------
@@ -288,11 +293,46 @@ def check_fits(
         return prediction
     fits = largest_fitting_level(predict, level, limit)
     advice = (
-        f"the largest level that fits is {fits}"
-        if fits >= first_level
-        else "not even the lowest level fits"
+        f"the largest level that fits is {offset + fits}"
+        if fits >= 0
+        else "not even the unrefined mesh fits"
     )
     raise ResourceError(
-        f"{what} at level {level} needs about {format_bytes(prediction.peak_bytes)} at its peak "
-        f"({prediction.peak_stage}), more than {source} ({format_bytes(limit)}); {advice}"
+        f"{what} at level {offset + level} needs about {format_bytes(prediction.peak_bytes)} at "
+        f"its peak ({prediction.peak_stage}), more than {source} ({format_bytes(limit)}); {advice}"
     )
+
+
+def mesh_command_predictor(target, **stages: Any) -> Callable[[int], MemoryPrediction]:
+    """``predict(level)`` for refining ``target`` (a Domain or Mesh) ``level`` times.
+
+    ``stages`` are the options of :func:`predict_mesh_command` (numbering, smooth, export, plot,
+    quality_plot); the baseline is this process's resident memory now.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> predict = mesh_command_predictor(blockmesh.load_domain("joined-8"), plot=True)
+    >>> [stage for stage, _ in predict(7).stages]
+    ['refinement', 'report', 'plot']
+    """
+    from .mesh import Mesh
+    from .refinement import predict_size
+
+    if isinstance(target, Mesh):
+        n_boundary = int(target.boundary_edges.shape[0])
+        counts = (target.n_cells, target.n_points, (5 * target.n_cells - n_boundary) // 2)
+        base_level = target.level
+    else:
+        n_boundary = int(target.boundary_edges.shape[0])
+        counts = (target.n_blocks, target.n_vertices, target.n_shared_edges)
+        base_level = 0
+    baseline = process_rss()
+
+    def predict(level: int) -> MemoryPrediction:
+        size = predict_size(*counts, n_boundary, level, base_level + level)
+        return predict_mesh_command(
+            size, n_blocks=counts[0], steps=level, baseline=baseline, **stages
+        )
+
+    return predict

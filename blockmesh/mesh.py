@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field, fields
 from typing import Any
 
@@ -316,10 +317,10 @@ class Mesh:
             or [np.zeros(0)]
         )
 
-    def _measures(self) -> CellMeasures:
+    def _measures(self, progress: Callable[[int, int], None] | None = None) -> CellMeasures:
         """Areas, angles, aspect and convexity of all cells, measured once (cached)."""
         if "measures" not in self._cache:
-            self._cache["measures"] = measure_cells(self)
+            self._cache["measures"] = measure_cells(self, progress=progress)
         return self._cache["measures"]
 
     @property
@@ -328,11 +329,14 @@ class Mesh:
         return self._measures().area
 
     # --------------------------------------------------------------- quality
-    def quality(self, *, chunk: int | None = None) -> MeshQuality:
+    def quality(
+        self, *, chunk: int | None = None, progress: Callable[[int, int], None] | None = None
+    ) -> MeshQuality:
         """Angles, aspect ratios and areas of the cells, in chunks (bounded memory).
 
         One pass over the cells, shared with :attr:`area` and :meth:`check_geometry` and cached;
         ``chunk`` (cells per pass step) only changes the memory used, not the result.
+        ``progress(done, total)`` hears how many cells are measured, when they are.
 
         Examples
         --------
@@ -341,7 +345,7 @@ class Mesh:
         >>> round(q.min_angle, 1), round(q.max_angle, 1), q.not_strictly_convex
         (56.3, 150.3, 0)
         """
-        m = self._measures() if chunk is None else measure_cells(self, chunk=chunk)
+        m = self._measures(progress) if chunk is None else measure_cells(self, chunk=chunk)
         ratio = m.min_area / m.max_area if m.max_area > 0 else 0.0
         return MeshQuality(
             m.min_angle,

@@ -8,9 +8,11 @@ import sys
 from decimal import Decimal, localcontext
 from fractions import Fraction
 
+from ..errors import BlockMeshError
 from ..exact import exact_integral
 from ..quadrature import RULES, integrate, integrate_to_tolerance, rule_info
 from ._common import add_domain_arguments, print_json, resolve_domain
+from ._partitions import add_partition_arguments, check_partition_arguments
 
 __all__ = ["register", "run"]
 
@@ -71,6 +73,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--max-level", type=int, default=6, metavar="L", help="with --tol: highest level (6)"
     )
+    add_partition_arguments(parser, "integrate")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
 
@@ -83,6 +86,9 @@ def _decimal(value: Fraction, digits: int = 22) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh integrate`` with the parsed ``args``; returns the exit code."""
+    partitioned = check_partition_arguments(args)
+    if partitioned and args.tol is not None:
+        raise BlockMeshError("--partitions integrates at one --level and --order, not to --tol")
     domain = resolve_domain(args)
     exact = exact_integral(domain, args.function) if args.exact else None
     converged = True
@@ -104,7 +110,15 @@ def run(args: argparse.Namespace) -> int:
         level = _DEFAULT_LEVEL if args.level is None else args.level
         order = _DEFAULT_ORDER if args.order is None else args.order
         rule = args.rule or "paper"
-        value = integrate(domain, args.function, order=order, level=level, rule=rule)
+        if partitioned:  # each worker integrates over its partition; the values are added
+            from ..distributed import integrate as integrate_partitions
+
+            value = integrate_partitions(
+                domain, args.function, level=level, order=order, rule=rule,
+                partitions=args.partitions, workers=args.workers, scheduler=args.scheduler,
+            )  # fmt: skip
+        else:
+            value = integrate(domain, args.function, order=order, level=level, rule=rule)
         cells = domain.n_blocks * 6**level
         points = cells * rule_info(rule, order).points_per_cell
         estimate = abs(value - float(exact)) if exact is not None else None
