@@ -24,7 +24,7 @@ import numpy as np
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
 from .geometry import signed_area
 from .measures import CellMeasures, measure_cells
-from .topology import boundary_of_cells, boundary_slots, cell_neighbours, unique_edges
+from .topology import boundary_of_cells, boundary_slots, cell_neighbours
 
 __all__ = ["Mesh", "MeshQuality"]
 
@@ -286,9 +286,37 @@ class Mesh:
         return (5 * self.n_cells + int(self.boundary_edges.shape[0])) // 2
 
     def edges(self) -> np.ndarray:
-        """Unique undirected edges (E, 2), cached. O(M log M)."""
+        """Unique undirected edges (E, 2) as (lower id, higher id), cached. O(M), no sorting.
+
+        Cells run counter-clockwise, so an edge two cells share runs one way in one and the other
+        way in the other: each is listed once where it runs from its lower node to its higher.
+        Boundary edges, in one cell only, are added where they run downwards. Edges come in the
+        order of the cells (boundary edges running downwards last).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> blockmesh.load_domain("joined-2").mesh(0).edges().tolist()
+        [[0, 1], [1, 2], [2, 3], [3, 4], [1, 5], [5, 6], [6, 7], [2, 7], [0, 4]]
+        """
         if "edges" not in self._cache:
-            edges = unique_edges(self.cells, self.n_points)
+            edges = np.empty((self.n_edges, 2), dtype=np.int64)
+            filled = 0
+            for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
+                tail = self.cells[start : start + _BANDWIDTH_CHUNK]
+                head = tail[:, [1, 2, 3, 4, 0]]
+                upward = tail < head
+                count = int(np.count_nonzero(upward))
+                edges[filled : filled + count, 0] = tail[upward]
+                edges[filled : filled + count, 1] = head[upward]
+                filled += count
+            down = self.boundary_edges[self.boundary_edges[:, 0] > self.boundary_edges[:, 1]]
+            if filled + down.shape[0] != edges.shape[0]:
+                raise DomainError(
+                    "the cells do not meet edge to edge with consistent orientation; the mesh "
+                    "is broken"
+                )
+            edges[filled:] = down[:, ::-1]
             edges.setflags(write=False)
             self._cache["edges"] = edges
         return self._cache["edges"]
