@@ -61,7 +61,9 @@ def in_process(repeat: int) -> None:
             bandwidth = best_of(mesh.bandwidth, repeat)
             quality = best_of(lambda m=mesh: measure_cells(m), repeat)
             plot = best_of(lambda m=mesh: plot_mesh(m, folder / "m.png"), 1)
-            xdmf = best_of(lambda m=mesh: blockmesh.write(m, folder / "m.xdmf"), max(1, repeat // 2))
+            xdmf = best_of(
+                lambda m=mesh: blockmesh.write(m, folder / "m.xdmf"), max(1, repeat // 2)
+            )
             print(
                 f"{name:>10} {level:>2} {mesh.n_cells:>11,} {refine * 1e3:>6.0f}ms "
                 f"{refine / mesh.n_cells * 1e9:>7.1f} {bandwidth / refine:>8.2f}x "
