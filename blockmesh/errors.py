@@ -87,4 +87,8 @@ class SolverError(BlockMeshError):
 
 
 class BlockMeshWarning(UserWarning):
-    """Input was accepted after a repair that the user should know about."""
+    """Something the user should know about: input accepted after a repair, or a result to doubt.
+
+    Repairs: clockwise order reversed, a repeated closing vertex or a straight corner dropped.
+    Doubts: an integral whose error estimate is large (a singular or unresolved integrand).
+    """

@@ -32,73 +32,29 @@ blockmesh.errors.ExpressionError: not a polynomial: sin(...) of x or y at column
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from decimal import Decimal
 from fractions import Fraction
 from functools import lru_cache
 
 import numpy as np
 
-from .errors import BlockMeshError, DomainError, ExpressionError
-from .expr import Expression, Polynomial, parse_expression
+from .checks import whole_number
+from .domain import Domain
+from .errors import ArgumentError, ArgumentTypeError, DomainError, ExpressionError, ResourceError
 from .mesh import Mesh
+from .polynomial import as_polynomial
 
-__all__ = ["as_polynomial", "exact_integral"]
+__all__ = ["MAX_EXACT_WORK", "as_polynomial", "exact_integral"]
 
-
-def as_polynomial(polynomial: str | Expression | Mapping[tuple[int, int], object]) -> Polynomial:
-    """A polynomial ``{(a, b): coefficient}`` from an expression string, Expression or mapping.
-
-    Mapping coefficients may be ints, Fractions, Decimals or floats (kept as given).
-
-    Examples
-    --------
-    >>> as_polynomial("x^2 - 0.5*y")
-    {(0, 1): Fraction(-1, 2), (2, 0): Fraction(1, 1)}
-    >>> as_polynomial({(1, 2): 3})
-    {(1, 2): Fraction(3, 1)}
-    """
-    if isinstance(polynomial, str):
-        return parse_expression(polynomial).polynomial()
-    if isinstance(polynomial, Expression):
-        return polynomial.polynomial()
-    if not isinstance(polynomial, Mapping):
-        raise ExpressionError(
-            "a polynomial must be an expression string or a mapping {(a, b): coefficient}, "
-            f"not {type(polynomial).__name__}"
-        )
-    out: Polynomial = {}
-    for key, coefficient in polynomial.items():
-        if (
-            not isinstance(key, tuple)
-            or len(key) != 2
-            or not all(
-                isinstance(k, int | np.integer) and not isinstance(k, bool) and k >= 0 for k in key
-            )
-        ):
-            raise ExpressionError(
-                f"polynomial key {key!r} must be a pair (a, b) of whole numbers >= 0"
-            )
-        if isinstance(coefficient, float | np.floating):
-            value: Fraction | float = float(coefficient)
-            if not math.isfinite(value):
-                raise ExpressionError(
-                    f"coefficient of x^{key[0]} y^{key[1]} is not finite: {value}"
-                )
-        elif isinstance(coefficient, int | np.integer | Fraction | Decimal) and not isinstance(
-            coefficient, bool
-        ):
-            value = Fraction(coefficient)
-        else:
-            raise ExpressionError(
-                f"coefficient of x^{key[0]} y^{key[1]} must be a number, not {coefficient!r}"
-            )
-        if value != 0:
-            out[(int(key[0]), int(key[1]))] = value
-    return out
+#: Default most big-integer steps (boundary edges x Σ (a+1)(b+1) over the monomials) one exact
+#: integral may take: a few seconds.
+MAX_EXACT_WORK = 20_000_000
 
 
-def exact_integral(target, polynomial) -> Fraction | float:
+def exact_integral(
+    target: object, polynomial: object, *, max_work: int = MAX_EXACT_WORK
+) -> Fraction | float:
     """The exact integral of a polynomial over a polygon, a domain or a mesh.
 
     Parameters
@@ -108,7 +64,9 @@ def exact_integral(target, polynomial) -> Fraction | float:
         blocks included); a sequence of corners is one simple polygon (either orientation).
         Corners may be ints, floats (converted exactly), Fractions, Decimals or decimal strings.
     polynomial : str, Expression or mapping
-        See :func:`as_polynomial`.
+        See :func:`~blockmesh.polynomial.as_polynomial`.
+    max_work : int
+        Refuse (before any work) a request needing more big-integer steps than this.
 
     Returns
     -------
@@ -118,7 +76,12 @@ def exact_integral(target, polynomial) -> Fraction | float:
     Raises
     ------
     ExpressionError
-        When the expression is not a polynomial (with the offending part marked).
+        When the expression is not a polynomial (with the offending part marked), or a float
+        result overflows.
+    ArgumentTypeError, DomainError
+        For a target that is not a Domain, Mesh or list of corners, or bad corners.
+    ResourceError
+        When the work passes ``max_work``.
 
     Notes
     -----
@@ -131,18 +94,34 @@ def exact_integral(target, polynomial) -> Fraction | float:
     >>> exact_integral([(0, 0), (1, 0), (0, 1)], {(0, 0): 0.5})  # float coefficient: float result
     0.25
     """
+    budget = whole_number(max_work, "max_work", minimum=1)
     poly = as_polynomial(polynomial)
     edges = _boundary_edges(target)
+    work = len(edges) * sum((a + 1) * (b + 1) for a, b in poly)
+    if work > budget:
+        raise ResourceError(
+            f"the exact integral takes about {work:,} big-integer steps ({len(edges):,} boundary "
+            f"edges, {len(poly):,} monomials up to degree {max(a + b for a, b in poly)}), above "
+            f"max_work={budget:,}; integrate numerically instead, or raise max_work"
+        )
     exact = all(isinstance(c, Fraction) for c in poly.values())
     coefficients = {key: Fraction(c) for key, c in poly.items()}
     total = Fraction(0)
     for start, end in edges:
         total += _edge_integral(start, end, coefficients)
-    return total if exact else float(total)
+    if exact:
+        return total
+    try:
+        return float(total)
+    except OverflowError:
+        raise ExpressionError(
+            "the exact integral is beyond the float64 range (about 1.8e308); with a float "
+            "coefficient (pi, e, sqrt(...)) the result is a float"
+        ) from None
 
 
 # --------------------------------------------------------------------------- boundary edges
-def _fraction(value) -> Fraction:
+def _fraction(value: object) -> Fraction:
     if isinstance(value, bool):
         raise DomainError(f"coordinate {value!r} is not a number")
     if isinstance(value, float | np.floating):
@@ -159,12 +138,14 @@ def _fraction(value) -> Fraction:
     raise DomainError(f"coordinate {value!r} is not a number")
 
 
-def _boundary_edges(target) -> list[tuple[tuple[Fraction, Fraction], tuple[Fraction, Fraction]]]:
-    if not isinstance(target, Mesh) and hasattr(target, "block_mesh"):
+def _boundary_edges(
+    target: object,
+) -> list[tuple[tuple[Fraction, Fraction], tuple[Fraction, Fraction]]]:
+    if isinstance(target, Domain):
         target = target.block_mesh()
     if isinstance(target, Mesh):
         if target.boundary_edges.shape[0] == 0:
-            raise BlockMeshError("the mesh has no boundary edges to integrate over")
+            raise ArgumentError("the mesh has no boundary edges to integrate over")
         used = np.unique(target.boundary_edges)
         corner = {
             int(i): (Fraction(float(x)), Fraction(float(y)))
@@ -176,7 +157,7 @@ def _boundary_edges(target) -> list[tuple[tuple[Fraction, Fraction], tuple[Fract
     elif isinstance(target, Iterable) and not isinstance(target, str | bytes):
         rows = list(target)
     else:
-        raise BlockMeshError(
+        raise ArgumentTypeError(
             "exact_integral() takes a Domain, a Mesh or a list of (x, y) corners, "
             f"not {type(target).__name__}"
         )

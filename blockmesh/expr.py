@@ -38,12 +38,15 @@ from __future__ import annotations
 
 import ast
 import math
+import warnings
 from collections.abc import Callable
-from fractions import Fraction
+from typing import Any, NoReturn
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .errors import ExpressionError
+from .errors import ArgumentError, ArgumentTypeError, ExpressionError
+from .polynomial import MAX_POLYNOMIAL_DEGREE, Polynomial, expand
 
 __all__ = [
     "CONSTANTS",
@@ -63,10 +66,6 @@ MAX_LENGTH = 2000
 MAX_DEPTH = 100
 #: Largest ``|p|`` accepted for a constant exponent ``p``.
 MAX_EXPONENT = 1000
-#: Largest total degree :meth:`Expression.polynomial` expands to.
-MAX_POLYNOMIAL_DEGREE = 200
-#: Most coefficient products one polynomial expansion may take.
-_MAX_EXPANSION_WORK = 2_000_000
 
 #: Named constants.
 CONSTANTS: dict[str, float] = {"pi": math.pi, "e": math.e}
@@ -145,10 +144,6 @@ _NOT_ALLOWED = {
     ast.Slice: "slices are",
 }
 
-#: A polynomial in x and y: {(a, b): coefficient of x**a * y**b}. Coefficients are exact
-#: Fractions, or floats where an irrational constant (pi, e, sqrt(2), ...) entered.
-Polynomial = dict[tuple[int, int], Fraction | float]
-
 _Compiled = float | Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
@@ -209,7 +204,7 @@ class Expression:
 
     def __init__(self, text: str) -> None:
         if not isinstance(text, str):
-            raise ExpressionError(f"an expression must be a string, not {type(text).__name__}")
+            raise ArgumentTypeError(f"an expression must be a string, not {type(text).__name__}")
         self.source = text
         if len(text) > MAX_LENGTH:
             raise ExpressionError(
@@ -223,10 +218,18 @@ class Expression:
                 self._fail_at(col, col + 1, f"{name} is not allowed in an expression")
         self._python, self._colmap = _caret_to_power(text)
         try:
-            self._tree = ast.parse(self._python.strip(), mode="eval")
+            with warnings.catch_warnings():  # e.g. "invalid decimal literal" for "1in": ours below
+                warnings.simplefilter("ignore", SyntaxWarning)
+                self._tree = ast.parse(self._python.strip(), mode="eval")
         except SyntaxError as error:
-            start = (error.offset or 1) - 1 + _leading_spaces(self._python)
-            end = (error.end_offset or error.offset or 1) - 1 + _leading_spaces(self._python)
+            lead = _leading_spaces(self._python)
+            if not error.offset:  # the parser ran out of text: something is missing at the end
+                end_of_text = len(self._python.rstrip())
+                self._fail(
+                    end_of_text, end_of_text + 1, "invalid syntax: the expression ends early"
+                )
+            start = error.offset - 1 + lead
+            end = (error.end_offset or error.offset) - 1 + lead
             detail = "" if error.msg == "invalid syntax" else f" ({error.msg})"
             self._fail(start, max(end, start + 1), f"invalid syntax{detail}")
         except (RecursionError, MemoryError):
@@ -243,11 +246,22 @@ class Expression:
         self._function: _Compiled = self._build(self._tree.body)
 
     # ------------------------------------------------------------------ evaluation
-    def __call__(self, x, y) -> np.ndarray:
+    def __call__(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         """Evaluate on arrays (or scalars) ``x`` and ``y``; float64 of their broadcast shape."""
-        x = np.asarray(x, dtype=np.float64)
-        y = np.asarray(y, dtype=np.float64)
-        shape = np.broadcast_shapes(x.shape, y.shape)
+        try:
+            x = np.asarray(x, dtype=np.float64)
+            y = np.asarray(y, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ArgumentTypeError(
+                f"{self!r} takes numbers or arrays of numbers for x and y, got "
+                f"{type(x).__name__} and {type(y).__name__}"
+            ) from None
+        try:
+            shape = np.broadcast_shapes(x.shape, y.shape)
+        except ValueError:
+            raise ArgumentError(
+                f"{self!r}: x and y have shapes {x.shape} and {y.shape}, which do not broadcast"
+            ) from None
         function = self._function
         out = np.asarray(function(x, y) if callable(function) else function, dtype=np.float64)
         if out.shape != shape:
@@ -263,14 +277,14 @@ class Expression:
         return not callable(self._function)
 
     # ------------------------------------------------------------------ errors
-    def _fail(self, start: int, end: int, message: str):
+    def _fail(self, start: int, end: int, message: str) -> NoReturn:
         """Raise at columns [start, end) of the parsed (``^`` -> ``**``) text."""
         last = len(self._colmap) - 1
         begin = self._colmap[min(max(start, 0), last)]
         stop = self._colmap[min(max(end, start + 1), last)]
         self._fail_at(begin, max(stop, begin + 1), message)
 
-    def _fail_at(self, start: int, end: int, message: str):
+    def _fail_at(self, start: int, end: int, message: str) -> NoReturn:
         text = self.source
         offset, shown = 0, text
         if len(text) > 76:  # a window around the offending part
@@ -283,17 +297,19 @@ class Expression:
         caret = " " * (start - offset) + "^" * width
         raise ExpressionError(f"{message} at column {start + 1}\n  {shown}\n  {caret}")
 
-    def _fail_node(self, node: ast.AST, message: str):
-        self._fail(node.col_offset, node.end_col_offset or node.col_offset + 1, message)
+    def _fail_node(self, node: ast.AST, message: str) -> NoReturn:
+        start, end = _span(node)
+        self._fail(start, end, message)
 
     # ------------------------------------------------------------------ vetting + compiling
     def _shift_positions(self, shift: int) -> None:
         if shift:
             for node in ast.walk(self._tree):
                 if hasattr(node, "col_offset"):
-                    node.col_offset += shift
-                    if node.end_col_offset is not None:
-                        node.end_col_offset += shift
+                    setattr(node, "col_offset", node.col_offset + shift)  # noqa: B010
+                    end = getattr(node, "end_col_offset", None)
+                    if end is not None:
+                        setattr(node, "end_col_offset", end + shift)  # noqa: B010
 
     def _check_depth(self) -> None:
         """Refuse nesting deeper than MAX_DEPTH.
@@ -301,7 +317,7 @@ class Expression:
         A chain ``a + b - c * d ...`` counts as one
         level (it is compiled as a loop), so long sums are fine.
         """
-        stack = [(self._tree.body, 1)]
+        stack: list[tuple[ast.AST, int]] = [(self._tree.body, 1)]
         while stack:
             node, depth = stack.pop()
             if not hasattr(node, "col_offset"):
@@ -311,7 +327,7 @@ class Expression:
                     node, f"the expression is nested too deeply (at most {MAX_DEPTH} levels)"
                 )
             for child in ast.iter_child_nodes(node):
-                chained = _is_chain(node) and child is node.left
+                chained = _is_chain(node) and child is getattr(node, "left", None)
                 stack.append((child, depth if chained else depth + 1))
 
     def _build(self, node: ast.AST) -> _Compiled:
@@ -340,12 +356,10 @@ class Expression:
             return self._call(node)
         if isinstance(node, ast.Attribute):
             start = node.value.end_col_offset or node.col_offset
-            self._fail(
-                start, node.end_col_offset, f"attribute access ('.{node.attr}') is not allowed"
-            )
+            self._fail(start, _span(node)[1], f"attribute access ('.{node.attr}') is not allowed")
         if isinstance(node, ast.Subscript):
             start = node.value.end_col_offset or node.col_offset
-            self._fail(start, node.end_col_offset, "subscripts ('[...]') are not allowed")
+            self._fail(start, _span(node)[1], "subscripts ('[...]') are not allowed")
         for kind, what in _NOT_ALLOWED.items():
             if isinstance(node, kind):
                 self._fail_node(node, f"{what} not allowed")
@@ -366,12 +380,16 @@ class Expression:
             self._fail_node(node, "the number is too large for a float64")
         if not math.isfinite(number):
             self._fail_node(node, "the number is too large for a float64")
+        if number == 0 and any(c in "123456789" for c in self._text(node).lower().split("e")[0]):
+            self._fail_node(
+                node, f"the number {self._text(node)} is too small for a float64 (it would be 0)"
+            )
         return number
 
-    def _fold(self, node: ast.AST, function, *args: float) -> float:
+    def _fold(self, node: ast.AST, function: Callable[..., Any], *args: _Compiled) -> float:
         with np.errstate(all="raise"):
             try:
-                value = float(function(*(np.float64(a) for a in args)))
+                value = float(function(*(np.float64(a) for a in args if not callable(a))))
             except FloatingPointError as error:
                 text = self._text(node)
                 self._fail_node(node, f"the constant {text} cannot be evaluated ({error})")
@@ -381,8 +399,8 @@ class Expression:
 
     def _text(self, node: ast.AST) -> str:
         """The node's text as the user wrote it (with ``^``, not ``**``)."""
-        start = self._colmap[node.col_offset]
-        return self.source[start : self._colmap[node.end_col_offset or node.col_offset]]
+        start, end = _span(node)
+        return self.source[self._colmap[start] : self._colmap[end]]
 
     def _binary(self, node: ast.BinOp) -> _Compiled:
         if isinstance(node.op, ast.Pow):
@@ -452,7 +470,8 @@ class Expression:
         if not any(callable(a) for a in args):
             return self._fold(node, ufunc, *args)
         if count == 1:
-            (inner,) = args
+            inner = args[0]
+            assert callable(inner)  # not folded above
             return lambda x, y: ufunc(inner(x, y))
         return _combine(ufunc, *args)
 
@@ -462,14 +481,15 @@ class Expression:
 
         Decimal literals are exact decimals (``0.2`` -> ``Fraction(1, 5)``); ``pi``, ``e`` and
         constant function calls (``sqrt(2)``) enter as floats, which makes later results floats.
-        Zero coefficients are dropped.
+        Zero coefficients are dropped. See :func:`blockmesh.polynomial.expand`.
 
         Raises
         ------
         ExpressionError
             When the expression is not a polynomial (a function of x or y, division by a
-            non-constant, an exponent that is not a whole number >= 0) or expands beyond
-            :data:`MAX_POLYNOMIAL_DEGREE`; the message points at the offending part.
+            non-constant, an exponent that is not a whole number >= 0), expands beyond
+            :data:`~blockmesh.polynomial.MAX_POLYNOMIAL_DEGREE`, or a float coefficient
+            overflows; the message points at the offending part.
 
         Examples
         --------
@@ -482,116 +502,14 @@ class Expression:
           x^0.5
             ^^^
         """
-        budget = [_MAX_EXPANSION_WORK]
-        return self._poly(self._tree.body, budget)
-
-    def _poly(self, node: ast.AST, budget: list[int]) -> Polynomial:
-        if isinstance(node, ast.Constant):
-            return _const_poly(_exact_literal(self._text(node), node.value))
-        if isinstance(node, ast.Name):
-            if node.id == "x":
-                return {(1, 0): Fraction(1)}
-            if node.id == "y":
-                return {(0, 1): Fraction(1)}
-            return _const_poly(CONSTANTS[node.id])
-        if isinstance(node, ast.UnaryOp):
-            operand = self._poly(node.operand, budget)
-            return operand if isinstance(node.op, ast.UAdd) else {k: -c for k, c in operand.items()}
-        if isinstance(node, ast.Call):
-            if any(
-                isinstance(n, ast.Name) and n.id in ("x", "y")
-                for a in node.args
-                for n in ast.walk(a)
-            ):
-                self._fail_node(
-                    node,
-                    f"not a polynomial: {node.func.id}(...) of x or y",  # type: ignore[attr-defined]
-                )
-            function = self._build(node)
-            return _const_poly(float(function))  # type: ignore[arg-type]
-        assert isinstance(node, ast.BinOp)  # vetted: nothing else remains
-        if not isinstance(node.op, ast.Pow):
-            links = _chain(node)
-            acc = self._poly(links[0].left, budget)
-            for link in links:
-                acc = self._poly_step(link, acc, self._poly(link.right, budget), budget)
-            return acc
-        left = self._poly(node.left, budget)
-        right = self._poly(node.right, budget)
-        return self._poly_power(node, left, right, budget)
-
-    def _poly_step(
-        self, node: ast.BinOp, left: Polynomial, right: Polynomial, budget: list[int]
-    ) -> Polynomial:
-        op = type(node.op)
-        if op is ast.Add:
-            return _add(left, right, 1)
-        if op is ast.Sub:
-            return _add(left, right, -1)
-        if op is ast.Mult:
-            return self._mul(node, left, right, budget)
-        if op is ast.Div:
-            if any(key != (0, 0) for key in right):
-                self._fail_node(
-                    node.right,
-                    f"not a polynomial: division by {self._text(node.right)}, "
-                    "which depends on x or y",
-                )
-            divisor = right.get((0, 0), 0)
-            if divisor == 0:
-                self._fail_node(node, "division by zero")
-            return {k: c / divisor for k, c in left.items()}
-        raise AssertionError  # pragma: no cover
-
-    def _poly_power(
-        self, node: ast.BinOp, left: Polynomial, right: Polynomial, budget: list[int]
-    ) -> Polynomial:
-        if any(key != (0, 0) for key in right):
-            self._fail_node(node.right, "not a polynomial: the exponent depends on x or y")
-        power = right.get((0, 0), Fraction(0))
-        if not (isinstance(power, Fraction) and power.denominator == 1 and power >= 0):
-            shown = self._text(node.right).strip("() ")
-            self._fail_node(
-                node.right, f"not a polynomial: the exponent {shown} is not a whole number >= 0"
-            )
-        result: Polynomial = {(0, 0): Fraction(1)}
-        square, k = left, int(power)
-        if _degree(left) * k > MAX_POLYNOMIAL_DEGREE:
-            self._fail_node(
-                node,
-                f"the polynomial's degree exceeds {MAX_POLYNOMIAL_DEGREE}; "
-                "too large to expand exactly",
-            )
-        while k:
-            if k & 1:
-                result = self._mul(node, result, square, budget)
-            k >>= 1
-            if k:
-                square = self._mul(node, square, square, budget)
-        return result
-
-    def _mul(self, node: ast.AST, a: Polynomial, b: Polynomial, budget: list[int]) -> Polynomial:
-        if _degree(a) + _degree(b) > MAX_POLYNOMIAL_DEGREE:
-            self._fail_node(
-                node,
-                f"the polynomial's degree exceeds {MAX_POLYNOMIAL_DEGREE}; "
-                "too large to expand exactly",
-            )
-        budget[0] -= len(a) * len(b)
-        if budget[0] < 0:
-            self._fail_node(node, "the polynomial has too many terms to expand exactly")
-        out: Polynomial = {}
-        for (i, j), c in a.items():
-            for (k, l), d in b.items():
-                key = (i + k, j + l)
-                out[key] = out.get(key, 0) + c * d
-        return {k: c for k, c in sorted(out.items()) if c != 0}
+        return expand(self)
 
 
 # --------------------------------------------------------------------------- helpers
 def _caret_to_power(text: str) -> tuple[str, list[int]]:
     """Replace ``^`` by ``**``; map each column of the new text to a column of the old one."""
-    out, colmap = [], []
+    out: list[str] = []
+    colmap: list[int] = []
     for col, char in enumerate(text):
         if char == "^":
             out.append("**")
@@ -601,6 +519,13 @@ def _caret_to_power(text: str) -> tuple[str, list[int]]:
             colmap.append(col)
     colmap.append(len(text))
     return "".join(out), colmap
+
+
+def _span(node: ast.AST) -> tuple[int, int]:
+    """Columns ``[start, end)`` of a node in the parsed text (at least one column)."""
+    start: int = getattr(node, "col_offset", 0)
+    end: int | None = getattr(node, "end_col_offset", None)
+    return start, end if end is not None and end > start else start + 1
 
 
 def _leading_spaces(text: str) -> int:
@@ -613,10 +538,11 @@ def _is_chain(node: ast.AST) -> bool:
 
 def _chain(node: ast.BinOp) -> list[ast.BinOp]:
     """The links of a left-associated chain ``((a op b) op c) ...``, innermost first."""
-    links = []
-    while _is_chain(node):
-        links.append(node)
-        node = node.left
+    links: list[ast.BinOp] = []
+    link: ast.expr = node
+    while isinstance(link, ast.BinOp) and not isinstance(link.op, ast.Pow):
+        links.append(link)
+        link = link.left
     return links[::-1]
 
 
@@ -640,6 +566,7 @@ def _combine(ufunc, *args: _Compiled):
             return lambda x, y: ufunc(a(x, y), b(x, y))
         if callable(a):
             return lambda x, y: ufunc(a(x, y), b)
+        assert callable(b)  # two constants are folded before
         return lambda x, y: ufunc(a, b(x, y))
     raise AssertionError  # pragma: no cover
 
@@ -673,25 +600,3 @@ def _integer_power(base: Callable, k: int) -> Callable:
 
         return odd
     return lambda x, y: np.power(np.abs(base(x, y)), k)
-
-
-def _exact_literal(text: str, value) -> Fraction:
-    try:
-        return Fraction(text.replace("_", ""))
-    except ValueError:  # hexadecimal, octal or binary integer literals
-        return Fraction(value)
-
-
-def _const_poly(value: Fraction | float) -> Polynomial:
-    return {(0, 0): value} if value != 0 else {}
-
-
-def _add(a: Polynomial, b: Polynomial, sign: int) -> Polynomial:
-    out = dict(a)
-    for key, c in b.items():
-        out[key] = out.get(key, 0) + sign * c
-    return {k: c for k, c in sorted(out.items()) if c != 0}
-
-
-def _degree(p: Polynomial) -> int:
-    return max((a + b for a, b in p), default=0)

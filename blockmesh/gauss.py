@@ -31,8 +31,8 @@ from math import factorial
 
 import numpy as np
 
+from .checks import whole_number
 from .doubledouble import dd_add, dd_div, dd_mul, dd_mul_d, dd_of
-from .errors import BlockMeshError
 
 __all__ = ["MAX_POINTS", "gauss_jacobi", "gauss_legendre"]
 
@@ -129,12 +129,8 @@ def _rule(n: int, alpha: int, beta: int) -> tuple[np.ndarray, np.ndarray]:
     return nodes, weights
 
 
-def _check_n(n: int) -> int:
-    if isinstance(n, bool) or not isinstance(n, int | np.integer) or not 1 <= n <= MAX_POINTS:
-        raise BlockMeshError(
-            f"number of Gauss points must be a whole number in 1..{MAX_POINTS}, got {n!r}"
-        )
-    return int(n)
+def _check_n(n: object) -> int:
+    return whole_number(n, "the number of Gauss points", minimum=1, maximum=MAX_POINTS)
 
 
 def gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -191,7 +187,5 @@ def gauss_jacobi(n: int, alpha: int = 0, beta: int = 1) -> tuple[np.ndarray, np.
     >>> abs(float(np.dot(w, x**7)) - 2 / 9) < 1e-16  # ∫ (1 + x) x^7 dx
     True
     """
-    for name, value in (("alpha", alpha), ("beta", beta)):
-        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
-            raise BlockMeshError(f"{name} must be a whole number >= 0, got {value!r}")
-    return _rule(_check_n(n), int(alpha), int(beta))
+    a, b = whole_number(alpha, "alpha"), whole_number(beta, "beta")
+    return _rule(_check_n(n), a, b)

@@ -6,7 +6,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from blockmesh.errors import BlockMeshError
+from blockmesh.errors import ArgumentError, ArgumentTypeError, BlockMeshError
 from blockmesh.gauss import MAX_POINTS, gauss_jacobi, gauss_legendre
 
 #: Relative error allowed for nodes and weights: one unit in the last place, about.
@@ -132,10 +132,22 @@ def test_rules_are_cached_and_read_only():
         w[0] = 0.0
 
 
-@pytest.mark.parametrize("bad", [0, -1, 1.5, True, "3", MAX_POINTS + 1])
-def test_bad_point_counts_are_refused(bad):
-    with pytest.raises(BlockMeshError, match="number of Gauss points"):
+@pytest.mark.parametrize(
+    ("bad", "error"),
+    [
+        (0, ArgumentError),
+        (-1, ArgumentError),
+        (MAX_POINTS + 1, ArgumentError),
+        (1.5, ArgumentTypeError),
+        (True, ArgumentTypeError),
+        ("3", ArgumentTypeError),
+    ],
+)
+def test_bad_point_counts_are_refused(bad, error):
+    with pytest.raises(error, match="number of Gauss points"):
         gauss_legendre(bad)
+    with pytest.raises(BlockMeshError):
+        gauss_jacobi(bad)
 
 
 @pytest.mark.parametrize(("alpha", "beta"), [(-1, 0), (0, 0.5), (True, 1)])

@@ -21,6 +21,7 @@ SUMMARIES = {
     "show": "draw a domain's blocks, vertices and patches",
     "mesh": "refine domains into all-pentagon meshes; report, draw, export",
     "integrate": "integrate f(x, y) over a domain with a composite Gauss rule",
+    "solve": "solve a Poisson or elasticity problem on the mesh (virtual elements)",
     "tables": "regenerate the paper's Tables 1-11 (both pentagons) with their errors",
 }
 

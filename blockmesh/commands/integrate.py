@@ -3,15 +3,22 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
+import warnings
 from decimal import Decimal, localcontext
 from fractions import Fraction
+from typing import Any
 
-from ..errors import BlockMeshError
+from ..errors import BlockMeshError, BlockMeshWarning, ResourceError
 from ..exact import exact_integral
-from ..quadrature import RULES, integrate, integrate_to_tolerance, rule_info
-from ._common import add_domain_arguments, print_json, resolve_domain
+from ..mesh import Mesh
+from ..quadrature import (
+    RULES,
+    IntegrationResult,
+    integrate_to_tolerance,
+    integrate_with_estimate,
+)
+from ._common import add_domain_arguments, print_json, printable, resolve_target
 from ._partitions import add_partition_arguments, check_partition_arguments
 
 __all__ = ["register", "run"]
@@ -27,7 +34,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="integrate f(x, y) over a domain with a composite Gauss rule",
         description="Integrate a function of x and y over the domain's pentagon mesh at a level, "
         "with the paper's composite Gauss-Legendre rule (or a cheaper one), or to a tolerance "
-        "(--tol picks the order and level). --exact adds the exact integral of a polynomial.",
+        "(--tol picks the order and level). Every result comes with an error estimate, and a "
+        "warning when it is large (a singular, divergent or unresolved integrand). --exact adds "
+        "the exact integral of a polynomial.",
         epilog='example: blockmesh integrate sp --function "(x^4 + y^3)/(1 + x^2)" --level 3',
     )
     add_domain_arguments(parser)
@@ -43,8 +52,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--level",
         type=int,
         metavar="L",
-        help=f"refinement level (default {_DEFAULT_LEVEL}; with --tol: the starting level, "
-        "default 0)",
+        help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
+        "own level; with --tol: the starting level, default 0)",
     )
     parser.add_argument(
         "--order",
@@ -73,6 +82,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--max-level", type=int, default=6, metavar="L", help="with --tol: highest level (6)"
     )
+    parser.add_argument(
+        "--max-points",
+        type=int,
+        metavar="P",
+        help="most evaluations of f (default 1,000,000,000; with --tol 200,000,000): larger "
+        "requests are refused before any work",
+    )
     add_partition_arguments(parser, "integrate")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
@@ -84,80 +100,111 @@ def _decimal(value: Fraction, digits: int = 22) -> str:
         return str(Decimal(value.numerator) / Decimal(value.denominator))
 
 
+def _difference(value: float, exact: Fraction | float) -> float:
+    """``|value - exact|`` computed exactly, then rounded (inf beyond the float range)."""
+    try:
+        return float(abs(Fraction(value) - Fraction(exact)))
+    except OverflowError:
+        return float("inf")
+
+
+def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
+    limits: dict[str, int] = {} if args.max_points is None else {"max_points": args.max_points}
+    try:
+        if args.tol is not None:
+            if check_partition_arguments(args):
+                raise BlockMeshError(
+                    "--partitions integrates at one --level and --order; it does not take --tol"
+                )
+            return integrate_to_tolerance(
+                target,
+                args.function,
+                args.tol,
+                rule=args.rule or "jacobi",
+                level=args.level,
+                start_order=args.order or 2,
+                max_level=args.max_level,
+                **limits,
+            )
+        if check_partition_arguments(args):  # each worker integrates over its partition
+            from ..distributed import integrate_with_estimate as integrate_partitions
+
+            return integrate_partitions(
+                target, args.function, order=_DEFAULT_ORDER if args.order is None else args.order,
+                level=_level(args, target), rule=args.rule or "paper", partitions=args.partitions,
+                workers=args.workers, scheduler=args.scheduler, **limits,
+            )  # fmt: skip
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", BlockMeshWarning)  # printed below, with the options
+            return integrate_with_estimate(
+                target,
+                args.function,
+                order=_DEFAULT_ORDER if args.order is None else args.order,
+                level=_level(args, target),
+                rule=args.rule or "paper",
+                **limits,
+            )
+    except ResourceError as error:
+        raise ResourceError(f"{error} (--max-points)") from None
+
+
+def _level(args: argparse.Namespace, target: Any) -> int | None:
+    """The level asked for; by default 2 for a domain, and a mesh file's own level."""
+    if args.level is not None:
+        return int(args.level)
+    return None if isinstance(target, Mesh) else _DEFAULT_LEVEL
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh integrate`` with the parsed ``args``; returns the exit code."""
-    partitioned = check_partition_arguments(args)
-    if partitioned and args.tol is not None:
-        raise BlockMeshError("--partitions integrates at one --level and --order, not to --tol")
-    domain = resolve_domain(args)
-    exact = exact_integral(domain, args.function) if args.exact else None
-    converged = True
-    if args.tol is not None:
-        result = integrate_to_tolerance(
-            domain,
-            args.function,
-            args.tol,
-            rule=args.rule or "jacobi",
-            level=args.level,
-            start_order=args.order or 2,
-            max_level=args.max_level,
-        )
-        value, level, order, rule = result.value, result.level, result.order, result.rule
-        cells, points, estimate = result.cells, result.points, result.error_estimate
-        converged = result.converged
-        message = result.message
-    else:
-        level = _DEFAULT_LEVEL if args.level is None else args.level
-        order = _DEFAULT_ORDER if args.order is None else args.order
-        rule = args.rule or "paper"
-        if partitioned:  # each worker integrates over its partition; the values are added
-            from ..distributed import integrate as integrate_partitions
-
-            value = integrate_partitions(
-                domain, args.function, level=level, order=order, rule=rule,
-                partitions=args.partitions, workers=args.workers, scheduler=args.scheduler,
-            )  # fmt: skip
-        else:
-            value = integrate(domain, args.function, order=order, level=level, rule=rule)
-        cells = domain.n_blocks * 6**level
-        points = cells * rule_info(rule, order).points_per_cell
-        estimate = abs(value - float(exact)) if exact is not None else None
-        message = ""
-
+    target = resolve_target(args)
+    exact = exact_integral(target, args.function) if args.exact else None
+    result = _integrate(args, target)
+    exact_error = None if exact is None else _difference(result.value, exact)
     if args.json:
-        payload: dict = {
-            "value": value,
-            "level": level,
-            "order": order,
-            "rule": rule,
-            "cells": cells,
-            "points": points,
-        }
-        if estimate is not None and math.isfinite(estimate):
-            payload["error_estimate"] = estimate
-        if args.tol is not None:
-            payload["converged"] = converged
-        if exact is not None:
-            payload["exact"] = str(exact) if isinstance(exact, Fraction) else repr(exact)
-        print_json(payload)
-    else:
-        print(f"∫∫ {args.function} dx dy over {domain.name}")
-        print(f"  value           {value!r}")
-        print(f"  mesh            level {level}, {cells:,} cell{'s' if cells != 1 else ''}")
-        print(
-            f"  rule            {rule}, order {order} (exact to degree {2 * order - 1}), "
-            f"{points:,} points"
+        print_json(
+            {
+                "value": result.value,
+                "error_estimate": result.error_estimate,
+                "converged": result.converged,
+                "level": result.level,
+                "order": result.order,
+                "rule": result.rule,
+                "cells": result.cells,
+                "points": result.points,
+                "exact": None
+                if exact is None
+                else (str(exact) if isinstance(exact, Fraction) else repr(exact)),
+                "exact_error": exact_error,
+                "message": result.message,
+            }
         )
-        if args.tol is not None:
-            print(f"  error estimate  {estimate:.3g}  ({message})")
-        if exact is not None:
+    else:
+        cells, order = result.cells, result.order
+        print(f"∫∫ {printable(args.function)} dx dy over {printable(target.name)}")
+        print(f"  value           {result.value!r}")
+        note = "  (converged)" if args.tol is not None and result.converged else ""
+        print(f"  error estimate  {result.error_estimate:.3g}{note}")
+        print(f"  mesh            level {result.level}, {cells:,} cell{'s' if cells != 1 else ''}")
+        print(
+            f"  rule            {result.rule}, order {order} (exact to degree {2 * order - 1}), "
+            f"{result.points:,} points"
+        )
+        if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):
                 print(f"  exact           {exact}")
                 print(f"                  = {_decimal(exact)}")
             else:
                 print(f"  exact           {exact!r}")
-            print(f"  |value - exact| {abs(value - float(exact)):.3g}")
-    if not converged:
-        print(f"blockmesh integrate: warning: {message}", file=sys.stderr)
+            print(f"  |value - exact| {exact_error:.3g}")
+    if result.converged:
+        return 0
+    if args.tol is not None:
+        print(f"blockmesh integrate: warning: {result.message}", file=sys.stderr)
         return 1
+    print(
+        f"blockmesh integrate: warning: {result.message}; on the command line: a higher --level "
+        "or --order, or --tol",
+        file=sys.stderr,
+    )
     return 0

@@ -20,6 +20,7 @@ from typing import Any
 
 from ..domain import Domain
 from ..errors import BlockMeshError, ResourceError
+from ..improve import QUALITY_RULES, refine_with_rule
 from ..io import SPLITS, format_for_path
 from ..memory import check_fits, mesh_command_predictor, process_rss
 from ..mesh import Mesh
@@ -67,6 +68,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (default 0)"
+    )
+    parser.add_argument(
+        "--quality-rule",
+        choices=QUALITY_RULES,
+        default="paper",
+        help="node placement: the paper's (default) or optimized after every level (every node "
+        "off the boundary moves, boundary nodes slide along it; see blockmesh.improve)",
     )
     parser.add_argument(
         "-o",
@@ -164,11 +172,19 @@ def _mesh_one(
     with _stage(progress, "refining", prediction) as tick:
         mesh = refine(
             target,
-            options["level"],
+            options["level"] if options["quality_rule"] == "paper" else 0,
             smooth=options["smooth"],
             max_memory=options["max_memory"],
             progress=tick,
         )
+        if options["quality_rule"] != "paper":
+            mesh = refine_with_rule(
+                mesh,
+                options["level"],
+                rule=options["quality_rule"],
+                smooth=options["smooth"],
+                max_memory=options["max_memory"],
+            )
     seconds = time.perf_counter() - started
     with _stage(progress, "measuring the cells", prediction) as tick:
         bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
@@ -191,6 +207,7 @@ def _mesh_one(
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
+        "quality_rule": options["quality_rule"],
         "seconds": seconds,
         "predicted_peak_bytes": prediction.peak_bytes,
         "plot": None,
@@ -245,6 +262,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         "level": args.level,
         "numbering": args.numbering,
         "smooth": args.smooth,
+        "quality_rule": args.quality_rule,
         "max_memory": args.max_memory,
         "plot": args.plot,
         "quality_plot": args.quality_plot,
@@ -294,8 +312,11 @@ def _partitioned_options(args: argparse.Namespace) -> None:
         )
     if args.level < 1:
         raise BlockMeshError(f"--partitions needs --level 1 or more, got {args.level}")
-    if args.numbering != "nested" or args.smooth:
-        raise BlockMeshError("--partitions makes the paper's nested numbering without smoothing")
+    if args.numbering != "nested" or args.smooth or args.quality_rule != "paper":
+        raise BlockMeshError(
+            "--partitions makes the paper's mesh: nested numbering, no smoothing, the paper's "
+            "quality rule"
+        )
     for key, flag in _NOT_PARTITIONED.items():
         if getattr(args, key):
             raise BlockMeshError(

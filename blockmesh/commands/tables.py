@@ -6,11 +6,16 @@ import argparse
 from pathlib import Path
 
 from ..atomic import atomic_file
+from ..plot_tables import plot_convergence
 from ..quadrature import RULES
-from ..tables import PENTAGONS, TABLES, compute_table, format_table, plot_convergence, write_csv
+from ..tables import PENTAGONS, TABLES, compute_table, format_table, write_csv
 from ._common import check_folders
 
 __all__ = ["register", "run"]
+
+
+#: Most numbers a list option may name (a range like 1-1000000000 is refused, not expanded).
+_MAX_LIST = 1000
 
 
 def _int_list(text: str) -> tuple[int, ...]:
@@ -20,7 +25,12 @@ def _int_list(text: str) -> tuple[int, ...]:
         for part in text.split(","):
             if "-" in part.strip()[1:]:
                 low, high = part.split("-", 1)
-                values.extend(range(int(low), int(high) + 1))
+                span = range(int(low), int(high) + 1)
+                if len(values) + len(span) > _MAX_LIST:
+                    raise argparse.ArgumentTypeError(
+                        f"{text!r} names more than {_MAX_LIST} numbers"
+                    )
+                values.extend(span)
             else:
                 values.append(int(part))
     except ValueError:

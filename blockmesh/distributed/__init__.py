@@ -10,7 +10,7 @@ and checksums. Nothing gathers the mesh on the client.
 - :func:`refine_to` writes ``out.pvtu`` (ParaView's parallel VTU, with ``GlobalNodeIds`` and
   ghost marks) or ``out.xdmf`` (an XDMF spatial collection of HDF5 pieces), pieces in
   ``out.pvtu.pieces/`` (or ``out.xdmf.pieces/``);
-- :func:`integrate` sums the integrals of the partitions;
+- :func:`integrate` and :func:`integrate_with_estimate` sum the integrals of the partitions;
 - :func:`gather` reads a partitioned mesh back into one :class:`~blockmesh.mesh.Mesh` (for meshes
   that fit): it equals the serial :func:`blockmesh.refine` result array for array, bit for bit.
 
@@ -74,6 +74,7 @@ __all__ = [
     "dask_client",
     "gather",
     "integrate",
+    "integrate_with_estimate",
     "partition",
     "predict_task_bytes",
     "refine_to",
@@ -443,36 +444,97 @@ def refine_to(
     )
 
 
-def integrate(
+def integrate_with_estimate(
     target: Domain | Mesh,
     function: Any,
     *,
-    level: int,
-    order: int = 10,
+    order: int,
+    level: int | None = None,
     rule: str = "paper",
     partitions: int | None = None,
     client: Any = None,
     workers: int | None = None,
     scheduler: str | None = None,
+    max_points: int | None = None,
     progress: ProgressCallback | None = None,
-) -> float:
-    """The integral of ``function`` over ``target`` refined to ``level``, partition by partition.
+):
+    """The integral over ``target`` at ``level``, partition by partition, with its estimate.
 
-    Each worker builds its piece and integrates over it with :func:`blockmesh.integrate`
-    (``order``, ``rule`` as there); the client adds the partitions' values (``math.fsum``), which
-    equals the serial integral to round-off. ``function`` must be picklable: an expression
-    string, or a function defined at module level.
+    Each worker builds its piece and integrates over it with
+    :func:`blockmesh.quadrature.integrate_with_estimate` (``order``, ``rule`` as there); the
+    client adds the values (``math.fsum``: the serial value to round-off) and the error
+    estimates, and the result has converged when every partition's has. ``level`` is as for
+    :func:`blockmesh.integrate`: a Domain's refinement level, or for a Mesh the level to reach
+    (above its own). ``function`` must be picklable: an expression string, or a function defined
+    at module level. ``max_points`` bounds the evaluations of the whole integral.
+
+    Returns
+    -------
+    IntegrationResult
     """
+    from ..quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
+    from ..refinement import format_count
+
+    if level is None:
+        steps = 0
+    elif isinstance(target, Mesh):
+        steps = whole_number(level, "level") - target.level
+    else:
+        steps = whole_number(level, "level")
+    budget = DEFAULT_MAX_POINTS if max_points is None else whole_number(max_points, "max_points")
     with dask_client(client, workers=workers, scheduler=scheduler) as active:
         n_workers = len(active.scheduler_info().get("workers", {})) or 1
-        parts = partition(target, level, partitions if partitions is not None else n_workers)
+        parts = partition(target, steps, partitions if partitions is not None else n_workers)
+        info = rule_info(rule, order)
+        points = parts.n_cells * info.points_per_cell
+        if points > budget:
+            raise ResourceError(
+                f"{format_count(points)} evaluations of f are more than max_points "
+                f"({format_count(budget)}); lower the level or the order, or raise max_points"
+            )
         _check_workers(parts, active)
         scattered = active.scatter(parts, broadcast=True, hash=False)
         futures = [
-            active.submit(integrate_piece_task, scattered, p, function, order, rule, pure=False)
+            active.submit(
+                integrate_piece_task, scattered, p, function, order, rule, budget, pure=False
+            )
             for p in range(parts.n_partitions)
         ]
-        return math.fsum(_run_tasks(futures, progress))
+        results = _run_tasks(futures, progress)
+    value = math.fsum(r.value for r in results)
+    estimate = math.fsum(r.error_estimate for r in results)
+    unresolved = [r for r in results if not r.converged]
+    message = (
+        f"sum of {parts.n_partitions} partitions; {unresolved[0].message}"
+        if unresolved
+        else f"sum of {parts.n_partitions} partitions, each {results[0].message}"
+    )
+    level_made = parts.base.level + parts.steps
+    return IntegrationResult(
+        value=value,
+        error_estimate=estimate,
+        order=results[0].order,
+        level=level_made,
+        rule=results[0].rule,
+        cells=sum(r.cells for r in results),
+        points=sum(r.points for r in results),
+        converged=not unresolved,
+        message=message,
+        history=((level_made, results[0].order, value),),
+    )
+
+
+def integrate(target: Domain | Mesh, function: Any, **options: Any) -> float:
+    """The value of :func:`integrate_with_estimate` (same options): a float.
+
+    Examples
+    --------
+    >>> import blockmesh, blockmesh.distributed as bd
+    >>> bd.integrate(blockmesh.load_domain("sp"), "1", order=1, level=2,
+    ...              partitions=3, workers=1)  # doctest: +SKIP
+    5.0
+    """
+    return integrate_with_estimate(target, function, **options).value
 
 
 def gather(path: str | os.PathLike[str]) -> Mesh:

@@ -9,8 +9,8 @@ import pytest
 from helpers import run_cli
 
 import blockmesh.commands._progress as progress_module
-from blockmesh.memory import process_rss
 from blockmesh.commands._progress import StageProgress
+from blockmesh.memory import process_rss
 
 
 def test_json_reports_the_predicted_peak(capsys, tmp_path):
@@ -105,7 +105,10 @@ def test_a_failing_stage_ends_its_line_without_done(monkeypatch):
         (["--partitions", "2", "-o", "m.vtu"], "give -o OUT.pvtu"),
         (["--partitions", "2", "-o", "m.pvtu", "--plot", "m.png"], "--plot is not available"),
         (["--partitions", "0", "-o", "m.pvtu"], "--partitions must be 1 or more"),
-        (["--partitions", "2", "-o", "m.pvtu", "--numbering", "rcm"], "nested numbering"),
+        (
+            ["--partitions", "2", "-o", "m.pvtu", "--numbering", "rcm"],
+            "nested numbering, no smoothing",
+        ),
         (
             ["--partitions", "2", "-o", "m.pvtu", "--workers", "1", "--scheduler", "tcp://x:1"],
             "give --workers (a local cluster) or --scheduler",

@@ -1,0 +1,599 @@
+"""The paper's accuracy claim, measured at equal cost (a script, not a test).
+
+The paper says that solutions on its pentagonal refinement "outperform" those on triangle and
+quadrilateral refinements. This compares, on the same problems and counting the same things:
+
+* lowest-order virtual elements (``blockmesh.vem``) on the paper's pentagon refinement, on
+  pentagons with Laplacian smoothing per level (``smooth=3``), with the paper's inner points
+  moved per level (``blockmesh.improve.inner_point_rule``), with optimised node placement per
+  level (``blockmesh.improve.optimize_nodes`` after every level), and on pentagons converted from
+  a uniform triangle mesh (9 pentagons per triangle, the template of ``Domain.from_polygon``);
+* P1 triangles and Q1 quadrilaterals of scikit-fem on uniform n x n grids.
+
+Problems: u = sin(pi x) sin(pi y) on the unit square (smooth); u = r^(2/3) sin(2 phi / 3) on the
+L-shape (corner singularity); Cook's membrane (plane stress, E = 1, nu = 1/3, shear load 1: the
+vertical displacement of the middle of the loaded edge, (48, 52)).
+
+Counted the same way for every method: ``dof`` = unknowns of the solved system (nodes not on a
+Dirichlet patch, times the components), ``nnz`` = stored entries of that reduced matrix,
+``seconds`` = assembly + Dirichlet elimination + the same sparse LU solve (SuperLU,
+minimum-degree ordering on A + A^T, through ``blockmesh.vem.assembly.solve_system`` for all).
+Errors: L2 and the (broken) H1 seminorm against the exact solution with high-order quadrature; for
+the virtual elements on the projections ``Π⁰u_h`` and ``∇Π∇u_h`` (the only computable parts of the
+virtual solution), for P1/Q1 on the finite element function itself. Errors are compared against
+dof, nnz and time, never against level or h.
+
+Run: ``python benchmarks/bench_accuracy.py [--quick] [--plot docs/img/accuracy.png]``.
+scikit-fem is needed (``pip install -e '.[test]'``).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # level-1 BLAS threads only slow this down
+
+import argparse
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+import blockmesh
+from blockmesh.decompose import decompose_convex_polygon
+from blockmesh.improve import inner_point_rule, refine_with_rule
+from blockmesh.mesh import Mesh
+from blockmesh.vem import PolygonMesh, solve_elasticity, solve_poisson
+from blockmesh.vem.assembly import solve_system
+from blockmesh.vem.evaluate import boundary_values
+from blockmesh.vem.rules import cell_rule
+
+PI = math.pi
+COOK = [(0.0, 0.0), (48.0, 44.0), (48.0, 60.0), (0.0, 44.0)]
+COOK_POINT = (48.0, 52.0)
+COOK_QUOTED = 23.96
+
+
+@dataclass
+class Run:
+    problem: str
+    method: str
+    size: int  # level (pentagons) or n (n x n grid)
+    dof: int
+    nnz: int
+    seconds: float
+    l2: float = float("nan")
+    h1: float = float("nan")
+    value: float = float("nan")  # Cook: the displacement
+    min_angle: float = float("nan")
+    h1_floor: float = float("nan")  # the best cell-wise constant gradient on the same cells
+
+
+# ------------------------------------------------------------------------------ problems
+def smooth_u(x, y):
+    return np.sin(PI * x) * np.sin(PI * y)
+
+
+def smooth_grad(x, y):
+    return PI * np.cos(PI * x) * np.sin(PI * y), PI * np.sin(PI * x) * np.cos(PI * y)
+
+
+def smooth_f(x, y):
+    return 2 * PI**2 * smooth_u(x, y)
+
+
+def _corner_polar(x, y):
+    """r and the angle phi in [0, 3 pi / 2] of the L-shape's re-entrant corner (1, 1)."""
+    dx, dy = x - 1.0, y - 1.0
+    r = np.hypot(dx, dy)
+    phi = np.arctan2(dx - dy, -(dx + dy)) + 0.75 * PI
+    return r, phi, dx, dy
+
+
+def corner_u(x, y):
+    r, phi, _, _ = _corner_polar(x, y)
+    return r ** (2 / 3) * np.sin(2 * phi / 3)
+
+
+def corner_grad(x, y):
+    r, phi, dx, dy = _corner_polar(x, y)
+    r = np.maximum(r, 1e-300)
+    radial = (2 / 3) * r ** (-1 / 3) * np.sin(2 * phi / 3)
+    angular = (2 / 3) * r ** (-1 / 3) * np.cos(2 * phi / 3)
+    return radial * dx / r - angular * dy / r, radial * dy / r + angular * dx / r
+
+
+PROBLEMS: dict[str, tuple[Callable, Callable, Callable]] = {
+    "smooth": (smooth_u, smooth_grad, smooth_f),
+    "corner": (corner_u, corner_grad, lambda x, _y: np.zeros_like(x)),
+}
+
+
+# ------------------------------------------------------------------------------ meshes
+def triangles_to_pentagons(points: np.ndarray, triangles: np.ndarray) -> Mesh:
+    """Every triangle as the 9 pentagons of its template, merged by topology (not coordinates).
+
+    The template's two nodes per side sit at symmetric fractions, so neighbours agree on each
+    shared side; a side node is identified by (side, position from the side's lower vertex id).
+    """
+    ref = decompose_convex_polygon(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
+    bary = np.column_stack([1 - ref.vertices.sum(axis=1), ref.vertices])  # (19, 3)
+    n_t, n_p = triangles.shape[0], points.shape[0]
+    local_ids = np.full((n_t, bary.shape[0]), -1, dtype=np.int64)
+    local_ids[:, :3] = triangles
+    next_id = n_p
+    side_nodes: dict[tuple[int, int, int], int] = {}
+    for t in range(n_t):  # the merge is bookkeeping only; the geometry below is vectorised
+        for side, chain in enumerate(ref.edge_chains):
+            a, b = int(triangles[t, side]), int(triangles[t, (side + 1) % 3])
+            inner = chain[1:-1] if a < b else chain[1:-1][::-1]
+            for k, node in enumerate(inner):
+                key = (min(a, b), max(a, b), k)
+                if key not in side_nodes:
+                    side_nodes[key] = next_id
+                    next_id += 1
+                local_ids[t, node] = side_nodes[key]
+        for node in range(bary.shape[0]):
+            if local_ids[t, node] < 0:
+                local_ids[t, node] = next_id
+                next_id += 1
+    xy = np.empty((next_id, 2))
+    xy[:n_p] = points
+    placed = np.einsum("vk,tkd->tvd", bary, points[triangles]).reshape(-1, 2)
+    ids, first = np.unique(local_ids.ravel(), return_index=True)  # a shared node: its first
+    xy[ids] = placed[first]
+    xy[:n_p] = points  # the triangles' corners exactly
+    cells = np.take_along_axis(local_ids, np.tile(ref.blocks.ravel(), (n_t, 1)), axis=1)
+    return Mesh.from_cells(xy, cells.reshape(-1, 5))
+
+
+def square_triangles(n: int):
+    import skfem
+
+    t = np.linspace(0, 1, n + 1)
+    return skfem.MeshTri.init_tensor(t, t)
+
+
+def optimized_levels(domain, level: int) -> Mesh:
+    """The mesh of ``blockmesh mesh --quality-rule optimized`` (node placement after each level)."""
+    return refine_with_rule(domain, level, rule="optimized")
+
+
+def lshape_grid(n: int, quads: bool):
+    """Uniform n-per-unit grid on [0,2]x[0,1] u [0,1]x[1,2]."""
+    import skfem
+
+    t = np.linspace(0, 2, 2 * n + 1)
+    full = skfem.MeshQuad.init_tensor(t, t) if quads else skfem.MeshTri.init_tensor(t, t)
+    centres = full.p[:, full.t].mean(axis=1)
+    return full.remove_elements(np.flatnonzero((centres[0] > 1) & (centres[1] > 1)))
+
+
+def cook_grid(n: int, quads: bool):
+    import skfem
+
+    t = np.linspace(0, 1, n + 1)
+    unit = skfem.MeshQuad.init_tensor(t, t) if quads else skfem.MeshTri.init_tensor(t, t)
+    xi, eta = unit.p
+    return type(unit)(np.array([48 * xi, 44 * xi + eta * (44 - 28 * xi)]), unit.t)
+
+
+# ------------------------------------------------------------------------------ VEM runs
+def timed(solve: Callable[[], tuple], small: bool) -> tuple[tuple, float]:
+    """The result of ``solve()`` and its best time of 3 runs (1 run for big systems)."""
+    best = math.inf
+    result: tuple = ()
+    for _ in range(3 if small else 1):
+        started = time.perf_counter()
+        result = solve()
+        best = min(best, time.perf_counter() - started)
+    return result, best
+
+
+def vem_poisson(problem: str, method: str, size: int, mesh) -> Run:
+    u, grad, f = PROBLEMS[problem]
+    (sol,), seconds = timed(
+        lambda: (solve_poisson(mesh, f, dirichlet={p: u for p in mesh.patch_names}, order=4),),
+        mesh.n_points < 50_000,
+    )
+    e = sol.errors(u, grad, order=6)
+    angle = mesh.quality().min_angle if isinstance(mesh, Mesh) else float("nan")
+    return Run(
+        problem,
+        method,
+        size,
+        sol.info.dof,
+        sol.info.nonzeros,
+        seconds,
+        e.l2,
+        e.h1,
+        min_angle=angle,
+        h1_floor=constant_gradient_floor(mesh, grad),
+    )
+
+
+def constant_gradient_floor(mesh, grad: Callable) -> float:
+    """``(Σ_E ‖∇u - mean_E ∇u‖²)^(1/2)``: no constant gradient per cell does better."""
+    pm = mesh if isinstance(mesh, PolygonMesh) else PolygonMesh.from_mesh(mesh)
+    total = 0.0
+    for group in pm.groups:
+        x, y, w = cell_rule(pm.points, group.cells, 6)
+        gx, gy = grad(x, y)
+        area = w.sum(axis=1, keepdims=True)
+        mx, my = (w * gx).sum(1, keepdims=True) / area, (w * gy).sum(1, keepdims=True) / area
+        total += float(np.sum(w * ((gx - mx) ** 2 + (gy - my) ** 2)))
+    return math.sqrt(total)
+
+
+def vem_cook(method: str, size: int, mesh, **options) -> Run:
+    def solve() -> tuple:
+        return (
+            solve_elasticity(
+                mesh,
+                young=1.0,
+                poisson=1 / 3,
+                displacement={"clamped": (0, 0)},
+                traction={"loaded": (0, 1 / 16)},
+                **options,
+            ),
+        )
+
+    (sol,), seconds = timed(solve, mesh.n_points < 25_000)
+    value = float(boundary_values(sol.mesh, sol.displacement, [COOK_POINT])[0, 1])
+    return Run(
+        "cook",
+        method,
+        size,
+        sol.info.dof,
+        sol.info.nonzeros,
+        seconds,
+        value=value,
+        min_angle=mesh.quality().min_angle,
+    )
+
+
+# ------------------------------------------------------------------------------ FEM runs
+def fem_poisson(problem: str, method: str, size: int, mesh) -> Run:
+    import skfem
+    from skfem.helpers import dot, grad
+
+    u, du, f = PROBLEMS[problem]
+    element = skfem.ElementQuad1() if isinstance(mesh, skfem.MeshQuad) else skfem.ElementTriP1()
+
+    def solve() -> tuple:
+        basis = skfem.Basis(mesh, element, intorder=6)
+        a = skfem.asm(skfem.BilinearForm(lambda v, w, _: dot(grad(v), grad(w))), basis)
+        b = skfem.asm(skfem.LinearForm(lambda v, w: f(*w.x) * v), basis)
+        fixed = mesh.boundary_nodes()
+        return solve_system(a.tocsr(), b, fixed, u(*mesh.p[:, fixed]))
+
+    (uh, info), seconds = timed(solve, mesh.p.shape[1] < 50_000)
+
+    @skfem.Functional
+    def l2(w):
+        return (w["uh"] - u(*w.x)) ** 2
+
+    @skfem.Functional
+    def h1(w):
+        gx, gy = du(*w.x)
+        return (w["uh"].grad[0] - gx) ** 2 + (w["uh"].grad[1] - gy) ** 2
+
+    fine = skfem.Basis(mesh, element, intorder=10)
+    field = fine.interpolate(uh)
+    return Run(
+        problem,
+        method,
+        size,
+        info.dof,
+        info.nonzeros,
+        seconds,
+        math.sqrt(l2.assemble(fine, uh=field)),
+        math.sqrt(h1.assemble(fine, uh=field)),
+    )
+
+
+def fem_cook(method: str, size: int, mesh, order: int = 1) -> Run:
+    import skfem
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    lam, mu = lame_parameters(1.0, 1 / 3)
+    lam = 2 * lam * mu / (lam + 2 * mu)  # plane stress
+    if isinstance(mesh, skfem.MeshQuad):
+        scalar = skfem.ElementQuad1()
+    else:
+        scalar = skfem.ElementTriP1() if order == 1 else skfem.ElementTriP2()
+    element = skfem.ElementVector(scalar)
+    basis = skfem.Basis(mesh, element)
+
+    def solve() -> tuple:
+        a = skfem.asm(linear_elasticity(lam, mu), skfem.Basis(mesh, element))
+        loaded = mesh.facets_satisfying(lambda x: np.isclose(x[0], 48.0))
+        fb = skfem.FacetBasis(mesh, element, facets=loaded)
+        b = skfem.asm(skfem.LinearForm(lambda v, _w: v[1] / 16), fb)
+        fixed = basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).all()
+        return solve_system(a.tocsr(), b, fixed, np.zeros(fixed.size))
+
+    (uh, info), seconds = timed(solve, mesh.p.shape[1] < 25_000)
+    node = np.flatnonzero(np.isclose(mesh.p[0], 48) & np.isclose(mesh.p[1], 52))
+    if node.size:
+        value = float(uh[basis.nodal_dofs[1, node[0]]])
+    else:  # the point is inside an edge: interpolate along it (the trace is linear there)
+        value = float(basis.probes(np.array([[48.0 - 1e-12], [52.0]])) @ uh)
+    return Run("cook", method, size, info.dof, info.nonzeros, seconds, value=value)
+
+
+# ------------------------------------------------------------------------------ the study
+def smooth_runs(quick: bool) -> list[Run]:
+    import skfem
+
+    runs = []
+    square = blockmesh.load_domain("square")
+    top = 4 if quick else 5
+    for level in range(1, top + 1):
+        runs.append(vem_poisson("smooth", "pentagons (paper)", level, square.mesh(level)))
+        runs.append(
+            vem_poisson("smooth", "pentagons, smooth=3", level, square.mesh(level, smooth=3))
+        )
+        runs.append(
+            vem_poisson(
+                "smooth", "pentagons, inner-point rule", level, inner_point_rule(square, level)
+            )
+        )
+        if level <= top - (1 if quick else 0):
+            runs.append(
+                vem_poisson(
+                    "smooth", "pentagons, optimized", level, optimized_levels(square, level)
+                )
+            )
+        print(f"  smooth: level {level} done", flush=True)
+    for n in (2, 4, 8, 16, 32) if not quick else (2, 4, 8):
+        tri = square_triangles(n)
+        converted = triangles_to_pentagons(tri.p.T, _ccw(tri.p.T, tri.t.T))
+        runs.append(vem_poisson("smooth", "pentagons from triangles", n, converted))
+    for n in (8, 16, 32, 64, 128, 256) if not quick else (8, 16, 32, 64):
+        t = np.linspace(0, 1, n + 1)
+        runs.append(fem_poisson("smooth", "P1 triangles", n, skfem.MeshTri.init_tensor(t, t)))
+        runs.append(fem_poisson("smooth", "Q1 quads", n, skfem.MeshQuad.init_tensor(t, t)))
+    check = square_triangles(16)  # VEM on the same triangles reproduces P1 (a sanity row)
+    runs.append(
+        vem_poisson(
+            "smooth",
+            "VEM on the P1 triangles",
+            16,
+            PolygonMesh.from_cells(check.p.T, _ccw(check.p.T, check.t.T)),
+        )
+    )
+    return runs
+
+
+def _ccw(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1])
+    out = triangles.copy()
+    out[area < 0] = out[area < 0][:, [0, 2, 1]]
+    return out
+
+
+def corner_runs(quick: bool) -> list[Run]:
+    runs = []
+    lshape = blockmesh.load_domain("l-shape")
+    for level in range(1, (3 if quick else 4) + 1):
+        runs.append(vem_poisson("corner", "pentagons (paper)", level, lshape.mesh(level)))
+        runs.append(
+            vem_poisson("corner", "pentagons, optimized", level, optimized_levels(lshape, level))
+        )
+    for n in (4, 8, 16, 32, 64, 128) if not quick else (4, 8, 16, 32):
+        runs.append(fem_poisson("corner", "P1 triangles", n, lshape_grid(n, quads=False)))
+        runs.append(fem_poisson("corner", "Q1 quads", n, lshape_grid(n, quads=True)))
+    return runs
+
+
+def cook_runs(quick: bool) -> tuple[list[Run], float]:
+    runs = []
+    cook = blockmesh.Domain.from_polygon(COOK, patches={"clamped": [3], "loaded": [1]}, name="cook")
+    for level in range(0, (3 if quick else 5) + 1):
+        runs.append(vem_cook("pentagons (paper)", level, cook.mesh(level)))
+        runs.append(vem_cook("pentagons, optimized", level, optimized_levels(cook, level)))
+    for n in (4, 8, 16, 32, 64, 128) if not quick else (4, 8, 16, 32):
+        runs.append(fem_cook("P1 triangles", n, cook_grid(n, quads=False)))
+        runs.append(fem_cook("Q1 quads", n, cook_grid(n, quads=True)))
+    reference = [
+        fem_cook("P2 triangles (reference)", n, cook_grid(n, quads=False), order=2)
+        for n in ((16, 32, 64) if quick else (32, 64, 128))
+    ]
+    runs += reference
+    v = [r.value for r in reference]
+    ratio = (v[1] - v[0]) / (v[2] - v[1])  # Richardson with the observed rate
+    extrapolated = v[2] + (v[2] - v[1]) / (ratio - 1)
+    return runs, extrapolated
+
+
+def stabilization_runs() -> list[Run]:
+    runs = []
+    mesh = blockmesh.load_domain("square").mesh(4)
+    u, grad, f = PROBLEMS["smooth"]
+    for recipe in ("identity", "trace", "diagonal"):
+        for scale in (0.1, 0.3, 1.0, 3.0, 10.0):
+            started = time.perf_counter()
+            sol = solve_poisson(
+                mesh,
+                f,
+                dirichlet={p: 0 for p in mesh.patch_names},
+                stabilization=recipe,
+                stabilization_scale=scale,
+                order=4,
+            )
+            seconds = time.perf_counter() - started
+            e = sol.errors(u, grad, order=6)
+            runs.append(
+                Run(
+                    "stabilization",
+                    f"{recipe} x {scale:g}",
+                    4,
+                    sol.info.dof,
+                    sol.info.nonzeros,
+                    seconds,
+                    e.l2,
+                    e.h1,
+                )
+            )
+    cook = blockmesh.Domain.from_polygon(COOK, patches={"clamped": [3], "loaded": [1]})
+    for recipe in ("trace", "diagonal"):
+        for scale in (0.1, 0.3, 1.0, 3.0, 10.0):
+            run = vem_cook(
+                f"{recipe} x {scale:g}",
+                3,
+                cook.mesh(3),
+                stabilization=recipe,
+                stabilization_scale=scale,
+            )
+            run.problem = "stabilization-cook"
+            runs.append(run)
+    return runs
+
+
+# ------------------------------------------------------------------------------ reporting
+def at_dof(runs: list[Run], method: str, attribute: str, dof: float) -> float:
+    """The error of ``method`` at ``dof`` unknowns, by log-log interpolation between runs."""
+    points = sorted((r.dof, getattr(r, attribute)) for r in runs if r.method == method)
+    x = np.log([p[0] for p in points])
+    y = np.log([p[1] for p in points])
+    if not x[0] <= math.log(dof) <= x[-1]:
+        return float("nan")
+    return float(np.exp(np.interp(math.log(dof), x, y)))
+
+
+def print_runs(runs: list[Run], title: str, columns: tuple[str, ...]) -> None:
+    print(f"\n{title}")
+    head = f"{'method':<30} {'size':>5} {'dof':>9} {'nnz':>10} {'seconds':>8}"
+    print(head + "".join(f" {c:>11}" for c in columns) + f" {'min angle':>9}")
+    for r in runs:
+        values = "".join(f" {getattr(r, c):11.4e}" for c in columns)
+        print(
+            f"{r.method:<30} {r.size:>5} {r.dof:>9,} {r.nnz:>10,} {r.seconds:>8.3f}{values}"
+            f" {r.min_angle:>9.1f}"
+        )
+
+
+def summary(runs: list[Run], problem: str, dof: float, attributes: tuple[str, ...]) -> list[dict]:
+    chosen = [r for r in runs if r.problem == problem]
+    methods = list(dict.fromkeys(r.method for r in chosen))
+    rows = []
+    for method in methods:
+        row = {"method": method}
+        for a in attributes:
+            row[a] = at_dof(chosen, method, a, dof)
+            row[f"{a}_vs_P1"] = row[a] / at_dof(chosen, "P1 triangles", a, dof)
+        rows.append(row)
+    return rows
+
+
+def print_summary(rows: list[dict], title: str, attributes: tuple[str, ...]) -> None:
+    print(f"\n{title}")
+    print(f"{'method':<30}" + "".join(f" {a:>11} {'x P1':>6}" for a in attributes))
+    for row in rows:
+        print(
+            f"{row['method']:<30}"
+            + "".join(f" {row[a]:11.3e} {row[a + '_vs_P1']:6.2f}" for a in attributes)
+        )
+
+
+STYLE = {
+    "pentagons (paper)": ("C3", "o", "-"),
+    "pentagons, smooth=3": ("C1", "s", "--"),
+    "pentagons, inner-point rule": ("C4", "v", ":"),
+    "pentagons, optimized": ("C2", "D", "-"),
+    "pentagons from triangles": ("C5", "p", "-."),
+    "P1 triangles": ("C0", "^", "-"),
+    "Q1 quads": ("k", "x", "-"),
+    "P2 triangles (reference)": ("0.6", ".", ":"),
+}
+
+
+def plot(runs: list[Run], cook_reference: float, path: str) -> None:
+    from blockmesh.plot import pyplot, save_figure
+
+    plt = pyplot()
+    fig, axes = plt.subplots(2, 3, figsize=(16, 10))
+    panels = [
+        (axes[0, 0], "smooth", "dof", "l2", "smooth: L2 error against unknowns"),
+        (axes[0, 1], "smooth", "dof", "h1", "smooth: H1 error against unknowns"),
+        (axes[0, 2], "smooth", "nnz", "h1", "smooth: H1 error against matrix non-zeros"),
+        (axes[1, 0], "smooth", "seconds", "h1", "smooth: H1 error against assembly + solve time"),
+        (axes[1, 1], "corner", "dof", "h1", "L-shape corner singularity: H1 error"),
+        (axes[1, 2], "cook", "dof", "cook", "Cook's membrane: |v(48, 52) - reference|"),
+    ]
+    for ax, problem, xkey, ykey, title in panels:
+        chosen = [r for r in runs if r.problem == problem]
+        for method in dict.fromkeys(r.method for r in chosen):
+            if method not in STYLE or method.startswith("P2"):
+                continue
+            mine = sorted((r for r in chosen if r.method == method), key=lambda r: r.dof)
+            x = [getattr(r, xkey) for r in mine]
+            if ykey == "cook":
+                y = [abs(r.value - cook_reference) for r in mine]
+            else:
+                y = [getattr(r, ykey) for r in mine]
+            colour, marker, line = STYLE[method]
+            ax.loglog(x, y, color=colour, marker=marker, linestyle=line, label=method, ms=5)
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel({"dof": "unknowns", "nnz": "non-zeros", "seconds": "seconds"}[xkey])
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0, 0].legend(fontsize=8)
+    axes[1, 2].legend(fontsize=8)
+    fig.suptitle("Error at equal cost: virtual elements on pentagons vs P1 / Q1 (scikit-fem)")
+    save_figure(fig, path)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
+    parser.add_argument("--plot", metavar="PNG", help="write the figure")
+    parser.add_argument("--json", metavar="FILE", help="write every run as JSON")
+    args = parser.parse_args()
+    started = time.perf_counter()
+    runs = smooth_runs(args.quick)
+    runs += corner_runs(args.quick)
+    print("  corner done", flush=True)
+    cook, reference = cook_runs(args.quick)
+    runs += cook
+    print("  cook done", flush=True)
+    runs += stabilization_runs()
+    for problem, columns in (
+        ("smooth", ("l2", "h1", "h1_floor")),
+        ("corner", ("l2", "h1", "h1_floor")),
+        ("cook", ("value",)),
+        ("stabilization", ("l2", "h1")),
+        ("stabilization-cook", ("value",)),
+    ):
+        print_runs([r for r in runs if r.problem == problem], problem, columns)
+    print(f"\nCook reference: P2 Richardson {reference:.4f} (quoted {COOK_QUOTED})")
+    for r in runs:
+        if r.problem == "cook":
+            r.h1 = abs(r.value - reference)  # the error, for the summary
+    dof = 16000.0
+    for problem, attributes in (
+        ("smooth", ("l2", "h1")),
+        ("corner", ("l2", "h1")),
+        ("cook", ("h1",)),
+    ):
+        label = " (h1 = |v - reference|)" if problem == "cook" else ""
+        print_summary(
+            summary(runs, problem, dof, attributes),
+            f"{problem}: errors at {dof:,.0f} unknowns (log-log interpolation){label}",
+            attributes,
+        )
+    if args.plot:
+        plot(runs, reference, args.plot)
+        print(f"\nwrote {args.plot}")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump([asdict(r) for r in runs] + [{"cook_reference": reference}], f, indent=1)
+    print(f"\n{time.perf_counter() - started:.0f} s in all")
+
+
+if __name__ == "__main__":
+    main()

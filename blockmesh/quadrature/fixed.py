@@ -1,0 +1,332 @@
+"""Integration with a fixed rule, order and level: the total, the cells, the points.
+
+Examples
+--------
+>>> from blockmesh.mesh import Mesh
+>>> sp = Mesh.from_cells([(-1, -1), (1, -1), (2, 0), (0, 1), (-2, 0)], [[0, 1, 2, 3, 4]])
+>>> round(integrate(sp, "(x^4 + y^3) / (1 + x^2)", order=10, level=2), 13)
+1.9240305426326
+>>> exact = integrate(sp, "x^2 * y", order=2)  # degree 3 = 2n - 1: exact for every rule
+>>> abs(integrate(sp, lambda x, y: x * x * y, order=2, rule="fan") - exact) < 1e-15
+True
+>>> result = integrate_with_estimate(sp, "exp(x) * cos(y)", order=8, level=1)
+>>> result.converged, result.error_estimate < 1e-8
+(True, True)
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import BlockMeshWarning
+from ..mesh import Mesh
+from .arguments import (
+    Integrand,
+    check_chunk,
+    check_integrand,
+    check_max_points,
+    check_nonnegative,
+)
+from .estimate import null_rule
+from .kernel import DEFAULT_CHUNK, cell_sums, chunks, straight_tables, total_of
+from .registry import get_rule, order_of
+from .result import IntegrationResult
+from .rule import Rule
+from .targets import DEFAULT_MAX_POINTS, MeshPlan, check_work, plan_mesh
+
+__all__ = [
+    "DEFAULT_WARN_RTOL",
+    "integrate",
+    "integrate_cells",
+    "integrate_with_estimate",
+    "quadrature_points",
+]
+
+#: Default warning level: the estimate relative to the sum of the sectors' |integral|.
+DEFAULT_WARN_RTOL = 1e-6
+
+#: Round-off allowance added to the warning level (16 ulps of the scale).
+_ROUNDOFF = 16 * float(np.finfo(np.float64).eps)
+
+#: |I_n - I_(n+1)| bounds the error of I_n by this factor when one more order at least halves
+#: the error (true for smooth integrands; slow, algebraic convergence can need more).
+_SAFETY = 2.0
+
+Function = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+def _prepare(
+    target: object, f: object, order: object, level: object, rule: object, max_points: object
+) -> tuple[Function, Rule, int, MeshPlan, int]:
+    """Checked arguments and the work of one pass (refused here when it passes the budget)."""
+    found = get_rule(rule)  # type: ignore[arg-type]
+    n = order_of(found, order)
+    budget = check_max_points(max_points)
+    function = check_integrand(f)
+    plan = plan_mesh(target, level)
+    points = check_work(
+        plan, found.info(n).points_per_cell, budget, f"order {n} of the {found.name} rule"
+    )
+    return function, found, n, plan, points
+
+
+def integrate(
+    target: object,
+    f: Integrand,
+    *,
+    order: int,
+    level: int | None = None,
+    rule: str | Rule = "paper",
+    chunk: int = DEFAULT_CHUNK,
+    max_points: int = DEFAULT_MAX_POINTS,
+    warn_rtol: float | None = DEFAULT_WARN_RTOL,
+) -> float:
+    """Integrate ``f`` over a domain or mesh with a composite Gauss rule.
+
+    Parameters
+    ----------
+    target : Domain or Mesh
+        A Domain is refined to ``level`` first (default: its block mesh, level 0).
+        A Mesh is used as it is, or refined further when ``level`` is above its own level.
+    f : callable or str
+        A vectorised ``f(x, y)`` (numpy arrays in, an array of the same shape or a scalar out)
+        or an expression string (see :func:`blockmesh.expr.parse_expression`).
+    order : int
+        The rule's order n: exact for polynomials of total degree ``2n - 1``.
+    level : int, optional
+        Refinement level to integrate on (6**level cells per block).
+    rule : {"paper", "jacobi", "fan"} or Rule
+        See :mod:`blockmesh.quadrature.registry`; ``"paper"`` reproduces the paper's tables.
+    chunk : int
+        Most points f is evaluated on at once (bounds the memory).
+    max_points : int
+        Most evaluations of f; a request above it is refused before any work.
+    warn_rtol : float or None
+        Warn (:class:`~blockmesh.errors.BlockMeshWarning`) when the error estimate of
+        :func:`integrate_with_estimate` is above ``warn_rtol`` times the sum of the sectors'
+        ``|integral|``; ``None`` skips the estimate (slightly faster, no warning).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError, UnknownNameError
+        On a bad order, level, rule, chunk or target.
+    ExpressionError
+        When ``f`` is an invalid expression, not vectorised, not finite at a quadrature point
+        (the message gives the point and the cell) or its integral overflows.
+    ResourceError
+        When the work passes ``max_points``.
+
+    Notes
+    -----
+    Cost: ``rule_info(rule, order).points_per_cell`` evaluations of f per cell, plus about
+    1.5 ns per point to place the points, sum and screen the error (and a second pass one order
+    higher when the screen is above the warning level). Cell integrals are summed pairwise.
+
+    Examples
+    --------
+    >>> from blockmesh.mesh import Mesh
+    >>> usp = Mesh.from_cells([(0, 0), (2, 0), (3, 1), (1, 3), (0, 2)], [[0, 1, 2, 3, 4]])
+    >>> round(integrate(usp, "1", order=1), 14)  # the area
+    6.0
+    """
+    if warn_rtol is None:
+        function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
+        return total_of(cell_sums(plan.build(), function, found, n, check_chunk(chunk)))
+    return _with_estimate(
+        target, f, order, level, rule, chunk, max_points, warn_rtol, stacklevel=3
+    ).value
+
+
+def integrate_cells(
+    target: object,
+    f: Integrand,
+    *,
+    order: int,
+    level: int | None = None,
+    rule: str | Rule = "paper",
+    chunk: int = DEFAULT_CHUNK,
+    max_points: int = DEFAULT_MAX_POINTS,
+) -> np.ndarray:
+    """The integral of ``f`` over every cell, shape (M,), read-only.
+
+    Arguments as in :func:`integrate`; no error estimate is made.
+
+    Examples
+    --------
+    >>> from blockmesh.mesh import Mesh
+    >>> usp = Mesh.from_cells([(0, 0), (2, 0), (3, 1), (1, 3), (0, 2)], [[0, 1, 2, 3, 4]])
+    >>> cells = integrate_cells(usp, "x", order=1, level=1)
+    >>> cells.shape, round(float(cells.sum()), 13)
+    ((6,), 7.3333333333333)
+    """
+    function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
+    return cell_sums(plan.build(), function, found, n, check_chunk(chunk)).values
+
+
+def integrate_with_estimate(
+    target: object,
+    f: Integrand,
+    *,
+    order: int,
+    level: int | None = None,
+    rule: str | Rule = "paper",
+    chunk: int = DEFAULT_CHUNK,
+    max_points: int = DEFAULT_MAX_POINTS,
+    warn_rtol: float = DEFAULT_WARN_RTOL,
+) -> IntegrationResult:
+    """Like :func:`integrate`, with an error estimate; warns when the estimate is large.
+
+    The estimate (see :mod:`blockmesh.quadrature.estimate`) is first read off the values the
+    rule computed anyway (a conservative screen). When that is above ``warn_rtol`` times the
+    scale — the sum of ``|integral|`` over every cell's sectors, about ``∫|f|`` — the rule runs
+    again one order higher and the estimate becomes twice the difference, cell by cell (an
+    upper bound of the error when one more order at least halves it, as it does for smooth
+    integrands). When even that stays above the level, the result has ``converged=False`` and
+    names the cell where the estimate is largest, and a
+    :class:`~blockmesh.errors.BlockMeshWarning` is issued: the integrand is singular, divergent
+    or not resolved at this level and order.
+
+    Returns
+    -------
+    IntegrationResult
+        ``value`` is the result of the requested order (identical to :func:`integrate`).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import blockmesh
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     result = integrate_with_estimate(blockmesh.load_domain("sp"), "1/(x - 0.3)",
+    ...                                      order=10, level=2)
+    >>> result.converged, result.error_estimate > 1
+    (False, True)
+    >>> str(caught[0].message).split(":")[0]
+    'the integral is not resolved'
+    """
+    return _with_estimate(target, f, order, level, rule, chunk, max_points, warn_rtol, stacklevel=3)
+
+
+def _with_estimate(
+    target: object,
+    f: object,
+    order: object,
+    level: object,
+    rule: object,
+    chunk: object,
+    max_points: object,
+    warn_rtol: object,
+    *,
+    stacklevel: int,
+) -> IntegrationResult:
+    function, found, n, plan, points = _prepare(target, f, order, level, rule, max_points)
+    chunk = check_chunk(chunk)
+    warn_level = check_nonnegative(warn_rtol, "warn_rtol")
+    budget = check_max_points(max_points)
+    mesh = plan.build()
+    screen = null_rule(found, n)
+    sums = cell_sums(mesh, function, found, n, chunk, screen=screen)
+    value = total_of(sums)
+    scale = float(np.sum(sums.magnitude)) if sums.magnitude is not None else abs(value)
+    limit = (warn_level + _ROUNDOFF) * scale
+    history: tuple[tuple[int, int, float], ...] = ((plan.level, n, value),)
+    per_cell = sums.screen if sums.screen is not None else np.zeros(mesh.n_cells)
+    estimate = float(np.sum(per_cell)) if screen.complete else math.inf
+    how = "from the highest resolved polynomial modes of f on each sector"
+    if not estimate <= limit:
+        check = n + 1 if n + 1 <= found.max_order else n - 1
+        extra = plan.cells * found.info(check).points_per_cell if check >= 1 else None
+        if extra is not None and points + extra <= budget:
+            other = cell_sums(mesh, function, found, check, chunk)
+            per_cell = _SAFETY * np.abs(sums.values - other.values)
+            estimate = float(np.sum(per_cell))
+            points += extra
+            history += ((plan.level, check, total_of(other)),)
+            how = f"twice the difference to order {check}, cell by cell"
+        else:
+            how += f" (order {check} not tried: it would pass max_points={budget:,})"
+    worst = int(np.argmax(per_cell)) if mesh.n_cells and np.any(per_cell > 0) else None
+    converged = estimate <= limit
+    message = f"error estimate {estimate:.3g} {how}"
+    if not converged:
+        message = _not_resolved(mesh, worst, value, estimate, scale, warn_level, how)
+        warnings.warn(BlockMeshWarning(message), stacklevel=stacklevel)
+    return IntegrationResult(
+        value,
+        estimate,
+        n,
+        plan.level,
+        found.name,
+        mesh.n_cells,
+        points,
+        converged,
+        message,
+        history,
+        worst,
+    )
+
+
+def _not_resolved(
+    mesh: Mesh,
+    worst: int | None,
+    value: float,
+    estimate: float,
+    scale: float,
+    warn_rtol: float,
+    how: str,
+) -> str:
+    where = ""
+    if worst is not None:
+        x, y = mesh.points[mesh.cells[worst]].mean(axis=0)
+        where = f"; it is largest in cell {worst} (around ({x:.6g}, {y:.6g}))"
+    larger = f", and larger than the value {value:.6g} itself" if estimate > abs(value) else ""
+    return (
+        f"the integral is not resolved: the error estimate {estimate:.3g} ({how}) is above "
+        f"warn_rtol={warn_rtol:g} times the sum of the sectors' |integral| ({scale:.3g})"
+        f"{larger}{where}. The integrand may be singular or divergent there, or need a higher "
+        "level or order (integrate_to_tolerance chooses them)"
+    )
+
+
+def quadrature_points(
+    target: object,
+    *,
+    order: int,
+    level: int | None = None,
+    rule: str | Rule = "paper",
+    max_points: int = DEFAULT_MAX_POINTS,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """All quadrature points and weights at once: ``(x, y, w)`` with ∫∫ f ≈ Σ w f(x, y).
+
+    Memory is ``24 * points`` bytes; :func:`integrate` works in chunks instead.
+
+    Examples
+    --------
+    >>> from blockmesh.mesh import Mesh
+    >>> usp = Mesh.from_cells([(0, 0), (2, 0), (3, 1), (1, 3), (0, 2)], [[0, 1, 2, 3, 4]])
+    >>> x, y, w = quadrature_points(usp, order=2, rule="fan")
+    >>> x.shape, round(float(w.sum()), 14)
+    ((12,), 6.0)
+    """
+    found = get_rule(rule)
+    n = order_of(found, order)
+    plan = plan_mesh(target, level)
+    check_work(plan, found.info(n).points_per_cell, check_max_points(max_points), f"order {n}")
+    _, weights = straight_tables(found, n)
+    xs_all, ys_all, ws_all = [], [], []
+    for _, xs, ys, d in chunks(plan.build(), found, n, DEFAULT_CHUNK):
+        xs_all.append(xs.reshape(-1).copy())
+        ys_all.append(ys.reshape(-1).copy())
+        ws_all.append(np.multiply.outer(np.where(d == 0, 0.0, d), weights).reshape(-1))
+    if not xs_all:
+        empty = np.empty(0)
+        return empty, empty.copy(), empty.copy()
+    return np.concatenate(xs_all), np.concatenate(ys_all), np.concatenate(ws_all)

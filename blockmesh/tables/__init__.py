@@ -1,0 +1,67 @@
+"""The paper's Tables 1-11, regenerated: integrands, reference values, errata and layout.
+
+Each table integrates one function over the paper's two pentagons, SP ``<(-1,-1), (1,-1), (2,0),
+(0,1), (-2,0)>`` and USP ``<(0,0), (2,0), (3,1), (1,3), (0,2)>``, refined to NPMR = 6**L cells
+(L = 1..4), with the paper's rule (:mod:`blockmesh.quadrature.paper`) at orders (OGLR) 1..10
+(Tables 1-6) or 5, 10, ..., 45 (Tables 7-11).
+
+The package: :mod:`.data` (the paper's data, read from ``paper_tables.json`` here: pentagons,
+integrands, reference values with ``∫|f|``, the printed entries, the errata), :mod:`.compute`
+(the tables regenerated), :mod:`.report` (text in the paper's layout, CSV); the convergence
+picture is :func:`blockmesh.plot_tables.plot_convergence`.
+
+Examples
+--------
+>>> case = paper_case(3, "SP")
+>>> case.integrand, case.exact
+('(0.2*x + 0.3*y)^19', Fraction(-389834752439, 7000000000000000000))
+>>> result = compute_table(1, "USP", levels=(1, 2), orders=(10,))
+>>> bool(result.errors.max() < TOLERANCE * result.case.abs_integral)
+True
+"""
+
+from .compute import PaperTable, compute_table, pentagon_mesh
+from .data import (
+    CASES,
+    ERRATA,
+    INTEGRANDS,
+    PENTAGONS,
+    TABLES,
+    TOLERANCE,
+    Erratum,
+    PaperCase,
+    PrintedEntry,
+    paper_case,
+    pentagon_title,
+    table_orders,
+)
+from .report import format_table, write_csv
+
+__all__ = [
+    "CASES",
+    "ERRATA",
+    "INTEGRANDS",
+    "PENTAGONS",
+    "TABLES",
+    "TOLERANCE",
+    "Erratum",
+    "PaperCase",
+    "PaperTable",
+    "PrintedEntry",
+    "compute_table",
+    "format_table",
+    "paper_case",
+    "pentagon_mesh",
+    "pentagon_title",
+    "table_orders",
+    "write_csv",
+]
+
+
+def __getattr__(name: str) -> object:
+    """``plot_convergence`` from :mod:`blockmesh.plot_tables` (kept here for old imports)."""
+    if name == "plot_convergence":
+        from ..plot_tables import plot_convergence
+
+        return plot_convergence
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,230 @@
+"""Global matrices from cell matrices, Dirichlet elimination, and the linear solve.
+
+Cell matrices come in groups of equal size (one array ``(M, d, d)`` per group) and are summed into
+one ``scipy.sparse`` CSR matrix. Constrained degrees of freedom are eliminated (their columns move
+to the right-hand side); the remaining symmetric positive definite system is solved
+
+* ``solver="direct"`` (default): a sparse LU factorisation (SuperLU, minimum-degree ordering on
+  ``A + Aᵀ``); exact to round-off, fine up to a few hundred thousand unknowns;
+* ``solver="amg"``: smoothed-aggregation algebraic multigrid as a preconditioner for conjugate
+  gradients (``pyamg``, an optional dependency: ``pip install 'blockmesh[vem]'``), to a relative
+  residual ``tol``; for large systems. For elasticity the rigid motions are given to the
+  aggregation as its near-null space.
+
+A singular system (no boundary condition fixes a constant or a rigid motion) is detected before
+the solve by the callers; a failed solve raises :class:`~blockmesh.errors.SolverError`.
+
+Examples
+--------
+>>> import numpy as np
+>>> k = np.array([[[1.0, -1.0], [-1.0, 1.0]]] * 2)  # two 1-D bars 0-1-2
+>>> a = assemble_matrix([np.array([[0, 1], [1, 2]])], [k], 3)
+>>> a.toarray().tolist()
+[[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]
+>>> u, info = solve_system(a, np.zeros(3), np.array([0, 2]), np.array([0.0, 1.0]))
+>>> u.tolist(), info.dof, info.nonzeros
+([0.0, 0.5, 1.0], 1, 1)
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse import linalg as sparse_linalg
+
+from ..checks import choice
+from ..errors import ArgumentError, SolverError
+
+__all__ = [
+    "SOLVERS",
+    "SolveInfo",
+    "assemble_matrix",
+    "assemble_vector",
+    "check_tolerance",
+    "solve_system",
+]
+
+#: The linear solvers, by name.
+SOLVERS = ("direct", "amg")
+
+_AMG_MAX_ITERATIONS = 500
+
+
+@dataclass(frozen=True)
+class SolveInfo:
+    """What the linear solve did.
+
+    Attributes
+    ----------
+    dof : int
+        Unknowns of the solved system: degrees of freedom that are not constrained by Dirichlet
+        data (plus nothing else: Lagrange multipliers of a constraint are not counted).
+    nonzeros : int
+        Stored entries of the reduced matrix (free rows and columns).
+    solver : str
+    iterations : int or None
+        Conjugate-gradient iterations (``"amg"``), None for the direct solver.
+    residual : float
+        ``‖b - A u‖ / ‖b‖`` of the reduced system (0 when ``b = 0``).
+    seconds : float
+        Time of the solve (factorisation or setup included).
+    """
+
+    dof: int
+    nonzeros: int
+    solver: str
+    iterations: int | None
+    residual: float
+    seconds: float
+
+
+def check_tolerance(tol: object) -> float:
+    """``tol`` as a float in (0, 1) (ArgumentError otherwise)."""
+    if isinstance(tol, bool) or not isinstance(tol, int | float | np.floating):
+        raise ArgumentError(f"tol must be a number in (0, 1), got {tol!r}")
+    if not 0 < float(tol) < 1:
+        raise ArgumentError(f"tol must be a number in (0, 1), got {tol!r}")
+    return float(tol)
+
+
+def assemble_matrix(
+    dofs: list[np.ndarray], blocks: list[np.ndarray], size: int
+) -> sparse.csr_matrix:
+    """Sum the cell matrices ``blocks[g][m]`` (d x d) at rows and columns ``dofs[g][m]`` (d,).
+
+    O(total entries) memory for the triplets; duplicates are summed by the CSR conversion.
+    """
+    rows = [np.repeat(d, d.shape[1], axis=1).ravel() for d in dofs]
+    cols = [np.tile(d, (1, d.shape[1])).ravel() for d in dofs]
+    values = [b.reshape(b.shape[0], -1).ravel() for b in blocks]
+    matrix = sparse.coo_matrix(
+        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(size, size),
+    ).tocsr()
+    matrix.sum_duplicates()
+    return matrix
+
+
+def assemble_vector(dofs: list[np.ndarray], blocks: list[np.ndarray], size: int) -> np.ndarray:
+    """Sum the cell vectors ``blocks[g][m]`` (d,) at ``dofs[g][m]``."""
+    out = np.zeros(size)
+    for d, b in zip(dofs, blocks, strict=True):
+        out += np.bincount(d.ravel(), weights=b.ravel(), minlength=size)
+    return out
+
+
+def solve_system(
+    matrix: sparse.csr_matrix,
+    rhs: np.ndarray,
+    fixed: np.ndarray,
+    values: np.ndarray,
+    *,
+    solver: str = "direct",
+    tol: float = 1e-10,
+    constraints: np.ndarray | None = None,
+    near_nullspace: np.ndarray | None = None,
+) -> tuple[np.ndarray, SolveInfo]:
+    """Solve ``matrix u = rhs`` with ``u[fixed] = values``.
+
+    Parameters
+    ----------
+    constraints : ndarray (n, k), optional
+        Extra linear constraints ``constraintsᵀ u = 0`` (Lagrange multipliers; direct solver only):
+        the mean-value condition of a pure Neumann problem.
+    near_nullspace : ndarray (n, k), optional
+        Candidate vectors for the multigrid aggregation (rigid motions for elasticity).
+    """
+    choice(solver, SOLVERS, "solver")
+    tol = check_tolerance(tol)
+    size = matrix.shape[0]
+    u = np.zeros(size)
+    u[fixed] = values
+    free = np.ones(size, dtype=bool)
+    free[fixed] = False
+    free_ids = np.flatnonzero(free)
+    reduced = matrix[free_ids][:, free_ids].tocsr()
+    b = rhs[free_ids] - matrix[free_ids][:, fixed] @ values
+    started = time.perf_counter()
+    iterations: int | None = None
+    if free_ids.size == 0:
+        solution = np.empty(0)
+    elif constraints is not None:
+        if solver != "direct":
+            raise ArgumentError(
+                "a mean-value constraint needs solver='direct' (the augmented system is not "
+                "positive definite)"
+            )
+        solution = _solve_constrained(reduced, b, constraints[free_ids])
+    elif solver == "direct":
+        solution = _solve_direct(reduced, b)
+    else:
+        candidates = None if near_nullspace is None else near_nullspace[free_ids]
+        solution, iterations = _solve_amg(reduced, b, tol, candidates)
+    seconds = time.perf_counter() - started
+    norm = float(np.linalg.norm(b))
+    residual = float(np.linalg.norm(b - reduced @ solution)) / norm if norm > 0 else 0.0
+    if constraints is None and not residual <= max(1e-6, 10 * tol):
+        raise SolverError(
+            f"the linear solve failed: relative residual {residual:.2g} (the system may be "
+            "singular or badly conditioned)"
+        )
+    u[free_ids] = solution
+    info = SolveInfo(int(free_ids.size), int(reduced.nnz), solver, iterations, residual, seconds)
+    return u, info
+
+
+def _solve_direct(matrix: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", sparse_linalg.MatrixRankWarning)
+        try:
+            lu = sparse_linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A")
+        except (RuntimeError, sparse_linalg.MatrixRankWarning) as error:
+            raise SolverError(
+                f"the system matrix is singular ({error}); the boundary conditions do not "
+                "determine the solution"
+            ) from None
+    solution = lu.solve(b)
+    if not np.all(np.isfinite(solution)):
+        raise SolverError("the linear solve produced non-finite values (singular system)")
+    return solution
+
+
+def _solve_constrained(
+    matrix: sparse.csr_matrix, b: np.ndarray, constraints: np.ndarray
+) -> np.ndarray:
+    k = constraints.shape[1]
+    block = sparse.csr_matrix(constraints)
+    augmented = sparse.bmat([[matrix, block], [block.T, None]], format="csc")
+    full = _solve_direct(augmented.tocsr(), np.concatenate([b, np.zeros(k)]))
+    return full[: matrix.shape[0]]
+
+
+def _solve_amg(
+    matrix: sparse.csr_matrix, b: np.ndarray, tol: float, candidates: np.ndarray | None
+) -> tuple[np.ndarray, int]:
+    try:
+        import pyamg
+    except ImportError:
+        raise SolverError(
+            "solver='amg' needs the optional package pyamg: pip install 'blockmesh[vem]' "
+            "(or use solver='direct')"
+        ) from None
+    hierarchy = pyamg.smoothed_aggregation_solver(
+        matrix, B=candidates, symmetry="symmetric", max_coarse=500
+    )
+    residuals: list[float] = []
+    solution = hierarchy.solve(
+        b, tol=tol, accel="cg", maxiter=_AMG_MAX_ITERATIONS, residuals=residuals
+    )
+    norm = float(np.linalg.norm(b))
+    reached = residuals[-1] / norm if residuals and norm > 0 else 0.0
+    if reached > 10 * tol:
+        raise SolverError(
+            f"algebraic multigrid did not converge: relative residual {reached:.2g} after "
+            f"{len(residuals) - 1} iterations (tol {tol:g}); try solver='direct'"
+        )
+    return np.asarray(solution, dtype=np.float64), max(len(residuals) - 1, 0)

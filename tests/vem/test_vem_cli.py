@@ -1,0 +1,121 @@
+"""``blockmesh solve``: the README commands, JSON, outputs read back, and bad input."""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ET
+
+import h5py
+import meshio
+import numpy as np
+import pytest
+from helpers import run_cli
+
+SOURCE = "2*pi^2*sin(pi*x)*sin(pi*y)"
+EXACT = "sin(pi*x)*sin(pi*y)"
+WALLS = ["--dirichlet", "left=0", "--dirichlet", "right=0", "--dirichlet", "top=0",
+         "--dirichlet", "bottom=0"]  # fmt: skip
+
+
+def test_readme_poisson_example_writes_vtu_point_data(capsys, tmp_path):
+    out = tmp_path / "solution.vtu"
+    code, stdout, stderr = run_cli(
+        capsys, "solve", "square", "--level", "3", "--source", SOURCE, *WALLS,
+        "--exact", EXACT, "-o", str(out), "--json",
+    )  # fmt: skip
+    assert code == 0, stderr
+    report = json.loads(stdout)
+    assert report["dof"] == 2553 and report["nonzeros"] > report["dof"]
+    assert report["l2_error"] < 1e-3 and report["h1_error"] < 0.1
+    assert report["l2_relative"] == pytest.approx(report["l2_error"] / 0.5, rel=1e-9)
+    assert set(report) >= {"seconds", "cells", "nodes", "solver", "residual", "output"}
+    back = meshio.read(out)
+    assert back.points.shape[0] == report["nodes"]
+    assert set(back.point_data) == {"u", "error"} and set(back.cell_data) == {"gradient"}
+    assert np.abs(back.point_data["u"]).max() == pytest.approx(report["u_max"])
+    assert np.abs(back.point_data["error"]).max() < 2e-3
+
+
+def test_text_report(capsys):
+    code, stdout, _ = run_cli(capsys, "solve", "square", "--level", "2", "--source", "1",
+                              "--dirichlet", "left=0", "--exact", "x*(2 - x)/2")  # fmt: skip
+    assert code == 0
+    assert "square: poisson on level 2, 288 cells, 453 nodes" in stdout
+    assert "unknowns 440" in stdout and "errors against x*(2 - x)/2: L2" in stdout
+
+
+def test_elasticity_writes_displacements_and_stresses(capsys, tmp_path):
+    out, picture = tmp_path / "bracket.xdmf", tmp_path / "bracket.png"
+    code, stdout, stderr = run_cli(
+        capsys, "solve", "l-shape", "--level", "2", "--equation", "elasticity",
+        "--young", "200", "--poisson-ratio", "0.3", "--dirichlet", "inlet=0, 0",
+        "--neumann", "outlet=0, -1", "-o", str(out), "--plot", str(picture), "--json",
+    )  # fmt: skip
+    assert code == 0, stderr
+    report = json.loads(stdout)
+    assert report["dof"] == 2 * report["nodes"] - 2 * 9  # the inlet's 9 nodes are clamped
+    assert picture.stat().st_size > 0
+    tree = ET.parse(out)
+    names = {a.get("Name"): a.get("Center") for a in tree.iter("Attribute")}
+    assert names == {"displacement": "Node", "stress": "Cell", "von_mises": "Cell"}
+    with h5py.File(out.with_suffix(".h5")) as f:
+        displacement = f["point/displacement"][()]
+        assert displacement.shape == (report["nodes"], 3)
+        assert np.hypot(*displacement[:, :2].T).max() == pytest.approx(report["max_displacement"])
+        assert f["cell/von_mises"][()].max() == pytest.approx(report["max_von_mises"])
+
+
+def test_pure_neumann_with_constraint(capsys):
+    code, stdout, stderr = run_cli(
+        capsys, "solve", "square", "--level", "2", "--source", "2*pi^2*cos(pi*x)*cos(pi*y)",
+        "--constraint", "mean", "--exact", "cos(pi*x)*cos(pi*y)", "--json",
+    )  # fmt: skip
+    assert code == 0, stderr
+    assert json.loads(stdout)["l2_relative"] < 0.02
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (["--dirichlet", "inlet=0"], "no patch 'inlet'; the patches are bottom, right, top, left"),
+        (["--dirichlet", "left=0", "--neumann", "left=1"], "patch 'left' is given twice"),
+        (["--dirichlet", "left=0", "--dirichlet", "left=1"], "patch 'left' is given twice"),
+        (["--neumann", "left=1"], "no Dirichlet data"),
+        (["--dirichlet", "left"], "--dirichlet 'left': write PATCH=EXPR"),
+        (["--dirichlet", "left=0", "-o", "{tmp}/u.msh"], "a solution is written to .vtu"),
+        (["--neumann", "left=1", "-o", "{tmp}/u.vtu"], "no Dirichlet data"),
+        (["--dirichlet", "left=0", "--constraint", "rigid"], "--constraint rigid is for the other"),
+        (["--dirichlet", "left=__import__('os')"], "unknown function '__import__'"),
+    ],
+)
+def test_bad_input_is_one_clear_line(capsys, tmp_path, arguments, message):
+    arguments = [a.replace("{tmp}", str(tmp_path)) for a in arguments]
+    code, stdout, stderr = run_cli(
+        capsys, "solve", "square", "--level", "1", "--source", "1", *arguments
+    )
+    assert code == 2 and stdout == ""
+    assert message in stderr
+    assert "Traceback" not in stderr
+    assert not list(tmp_path.iterdir())
+
+
+def test_quality_rule_optimized_in_mesh_and_solve(capsys):
+    code, stdout, _ = run_cli(capsys, "mesh", "square", "--level", "3", "--json")
+    paper = json.loads(stdout)
+    code, stdout, _ = run_cli(
+        capsys, "mesh", "square", "--level", "3", "--quality-rule", "optimized", "--json"
+    )
+    better = json.loads(stdout)
+    assert code == 0 and better["quality_rule"] == "optimized" and paper["quality_rule"] == "paper"
+    assert better["cells"] == paper["cells"] and better["nodes"] == paper["nodes"]
+    assert better["quality"]["min_angle"] > paper["quality"]["min_angle"]
+    errors = {}
+    for rule in ("paper", "optimized"):
+        code, stdout, _ = run_cli(
+            capsys, "solve", "square", "--level", "3", "--source", SOURCE, *WALLS,
+            "--exact", EXACT, "--quality-rule", rule, "--json",
+        )  # fmt: skip
+        errors[rule] = json.loads(stdout)
+    assert errors["optimized"]["dof"] == errors["paper"]["dof"]
+    assert errors["optimized"]["l2_error"] < errors["paper"]["l2_error"]
+    assert errors["optimized"]["h1_error"] < errors["paper"]["h1_error"]
