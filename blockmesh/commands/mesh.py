@@ -272,7 +272,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _print_report(report: dict[str, Any]) -> None:
+def _print_report(report: dict[str, Any], done: str = "refined") -> None:
     q = report["quality"]
     print(
         f"{printable(report['domain'])}: level {report['level']}, {report['cells']:,} cells, "
@@ -288,7 +288,7 @@ def _print_report(report: dict[str, Any]) -> None:
     line = f"  bandwidth {bandwidth['nested']:,} (nested)"
     if bandwidth["rcm"] is not None:
         line += f" -> {bandwidth['rcm']:,} (reverse Cuthill-McKee)"
-    print(line + f"; refined in {report['seconds']:.3f} s")
+    print(line + f"; {done} in {report['seconds']:.3f} s")
     for key, label in (("plot", "plot"), ("quality_plot", "quality plot"), ("output", "mesh")):
         if report[key]:
             print(f"  wrote {label} {report[key]}")
@@ -389,7 +389,7 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     if args.json:
         print_json(report)
         return 0
-    _print_report({**report, "output": None})
+    _print_report({**report, "output": None}, done="made and written by the workers")
     print(
         f"  wrote {report['output']} and {report['partitions']} pieces in "
         f"{pieces_dir(made.path)} ({format_bytes(made.bytes_written)}; arrays "

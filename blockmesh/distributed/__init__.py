@@ -62,7 +62,7 @@ from .files import (
     write_xdmf_index,
 )
 from .partition import Partitioning, partition
-from .pieces import piece_nodes
+from .pieces import piece_node_count
 from .tasks import integrate_piece_task, write_piece_task
 
 if TYPE_CHECKING:
@@ -80,8 +80,9 @@ __all__ = [
     "refine_to",
 ]
 
-#: Resident bytes of an idle worker process with blockmesh imported (measured: 130-160 MB).
-WORKER_BASE_BYTES = 160 * 10**6
+#: Resident bytes of a worker process with blockmesh imported, before its first piece (measured
+#: 75-110 MB on this project's machine).
+WORKER_BASE_BYTES = 120 * 10**6
 #: Share of a worker's memory limit a task may use: Dask pauses a worker at 80 %.
 _WORKER_SHARE = 0.75
 
@@ -220,7 +221,7 @@ def predict_task_bytes(parts: Partitioning, piece: int) -> int:
     ghost marks per node; cells, block, parent and region per cell; boundary edges), one unit's
     working arrays and the template of the remaining levels. The writers stream in chunks.
     """
-    nodes = piece_nodes(parts, piece)[0].size
+    nodes = piece_node_count(parts, piece)
     cells = parts.cells(piece)
     boundary = 2**parts.steps * int(
         np.count_nonzero(

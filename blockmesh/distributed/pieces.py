@@ -35,7 +35,7 @@ from ..mesh import Mesh
 from ..template import node_count, pentagon_template
 from .partition import Partitioning
 
-__all__ = ["Piece", "build_piece", "piece_nodes"]
+__all__ = ["Piece", "build_piece", "piece_node_count", "piece_nodes"]
 
 
 @dataclass(frozen=True)
@@ -114,6 +114,19 @@ def _layout(parts: Partitioning, piece: int) -> tuple[_Layout, np.ndarray]:
     return layout, ghost_others
 
 
+def piece_node_count(parts: Partitioning, piece: int) -> int:
+    """Nodes of partition ``piece`` (its own and its ghosts), without building any of them.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> from blockmesh.distributed.partition import partition
+    >>> piece_node_count(partition(blockmesh.load_domain("joined-2"), 1, 2), 1)
+    15
+    """
+    return _layout(parts, piece)[0].n_nodes
+
+
 def piece_nodes(parts: Partitioning, piece: int) -> tuple[np.ndarray, np.ndarray]:
     """Global ids (increasing) and ghost marks of the nodes of partition ``piece``. O(nodes).
 
@@ -128,7 +141,10 @@ def piece_nodes(parts: Partitioning, piece: int) -> tuple[np.ndarray, np.ndarray
     >>> ghost.astype(int).tolist()
     [1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0]
     """
-    layout, ghost_others = _layout(parts, piece)
+    return _nodes(*_layout(parts, piece))
+
+
+def _nodes(layout: _Layout, ghost_others: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     ids = np.empty(layout.n_nodes, dtype=np.int64)
     ghost = np.zeros(layout.n_nodes, dtype=bool)
     ids[layout.others_local] = layout.others
@@ -150,8 +166,8 @@ def build_piece(parts: Partitioning, piece: int) -> Piece:
     template = pentagon_template(steps)
     per_unit = 6**steps
     units = parts.units(piece)
-    layout, _ = _layout(parts, piece)
-    global_ids, ghost = piece_nodes(parts, piece)
+    layout, ghost_others = _layout(parts, piece)
+    global_ids, ghost = _nodes(layout, ghost_others)
     points = np.empty(layout.n_nodes, dtype=np.complex128)
     cells = np.empty((len(units) * per_unit, 5), dtype=np.int64)
     corners_xy = base.points.view(np.complex128)[:, 0]
