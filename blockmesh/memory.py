@@ -80,7 +80,7 @@ STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
     ("rcm",): StageCost(760, 0, _SPARSE),
     ("plot",): StageCost(26, 5_000_000, _PLOT),
     ("plot", "polygons"): StageCost(900, 5_000_000, _PLOT),
-    ("quality_plot",): StageCost(60, 60_000_000, _PLOT),
+    ("quality_plot",): StageCost(26, 60_000_000, _PLOT),
     ("export", "xdmf", "none"): StageCost(1, 2_000_000, _IO),
     ("export", "xdmf", "zlib"): StageCost(2, 3_000_000, _IO),
     ("export", "npz", None): StageCost(10, 2_000_000, _IO),
