@@ -2,6 +2,9 @@
 
 Run: ``python benchmarks/bench_distributed.py`` (needs ``pip install -e '.[distributed]'``).
 
+Output goes to ``/dev/shm`` (memory) where it exists, except for the demonstration: repeated
+gigabyte writes to a disk are throttled by the kernel's write-back and would hide the computing.
+
 1. strong scaling on this machine: the serial refinement plus its XDMF export against
    :func:`blockmesh.distributed.refine_to` on local clusters of 1 and 2 workers (cluster start-up
    measured apart), same mesh, same number of partitions;
@@ -11,7 +14,9 @@ Run: ``python benchmarks/bench_distributed.py`` (needs ``pip install -e '.[distr
    arrays total more than 4 GB (``joined-8`` at level 9 by default), and reports every worker's
    peak resident memory (which must stay under its limit).
 
-Best of several runs after a warm-up; ratios are against the peer measured in the same run.
+Best of several runs after a warm-up; ratios are against the peer measured in the same run. The
+local clusters are :func:`blockmesh.distributed.dask_client`'s (workers without Dask's
+``MALLOC_TRIM_THRESHOLD_``, which makes them several times slower here).
 """
 
 from __future__ import annotations
@@ -40,8 +45,6 @@ def best_of(function, repeat: int) -> float:
 
 
 def scaling(args: argparse.Namespace, folder: Path) -> None:
-    from dask.distributed import Client, LocalCluster
-
     domain = blockmesh.load_domain(args.domain)
     level, partitions = args.level, args.partitions
     cells = domain.n_blocks * 6**level
@@ -63,10 +66,8 @@ def scaling(args: argparse.Namespace, folder: Path) -> None:
     )
     for workers in (1, 2):
         started = time.perf_counter()
-        cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
-        )
-        client = Client(cluster)
+        context = bd.dask_client(workers=workers)
+        client = context.__enter__()
         startup = time.perf_counter() - started
         try:
             for suffix in (".xdmf", ".pvtu"):
@@ -83,8 +84,7 @@ def scaling(args: argparse.Namespace, folder: Path) -> None:
                     f"{serial_time / run:5.2f}  (cluster start {startup:.1f} s)"
                 )
         finally:
-            client.close()
-            cluster.close()
+            context.__exit__(None, None, None)
     again = best_of(serial, args.repeat)
     print(
         f"  serial again               {again:7.2f} s  (the machine is shared: ratios above use "
@@ -163,18 +163,13 @@ def writers(args: argparse.Namespace, folder: Path) -> None:
 
 
 def demo(args: argparse.Namespace, folder: Path) -> None:
-    from dask.distributed import Client, LocalCluster
-
     domain = blockmesh.load_domain(args.domain)
     limit = int(args.memory_limit)
     print(
         f"\n4. {args.domain} level {args.level} on 2 workers with a {limit / 1e9:.1f} GB memory "
         f"limit each, {args.partitions} partitions, {args.format} pieces in {folder}"
     )
-    with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, memory_limit=limit,
-        dashboard_address=None,
-    ) as cluster, Client(cluster) as client:  # fmt: skip
+    with bd.dask_client(workers=2, memory_limit=limit) as client:
         made = bd.refine_to(
             domain, args.level, folder / f"demo.{args.format}", partitions=args.partitions,
             client=client,
@@ -213,10 +208,16 @@ def main() -> None:
     )
     parser.add_argument("--memory-limit", default=2e9, type=float)
     parser.add_argument("--format", choices=("xdmf", "pvtu"), default="pvtu")
-    parser.add_argument("--folder", help="where the demonstration writes (default: a temp dir)")
+    parser.add_argument(
+        "--folder",
+        help="where the output goes (default: a temporary folder in /dev/shm where it exists, so "
+        "that the disk's write-back does not hide the computing; the demonstration: /tmp)",
+    )
     parser.add_argument("--keep", action="store_true", help="keep the demonstration's output")
     args = parser.parse_args()
-    folder = Path(args.folder or tempfile.mkdtemp(prefix="bench-distributed-"))
+    memory_disk = Path("/dev/shm")
+    where = memory_disk if memory_disk.is_dir() and not args.demo else None
+    folder = Path(args.folder or tempfile.mkdtemp(prefix="bench-distributed-", dir=where))
     folder.mkdir(parents=True, exist_ok=True)
     try:
         if args.demo:

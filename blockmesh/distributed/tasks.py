@@ -92,24 +92,32 @@ def write_piece_task(parts: Partitioning, piece: int, folder: str, index: str) -
     """Build partition ``piece``, write it into ``folder``, and return its summary.
 
     ``index`` is the index file's name (``out.pvtu`` or ``out.xdmf``): it fixes the piece's
-    name and format. The summary also says where it ran, how long it took and the worker's peak
-    resident memory so far.
+    name and format. The summary also says where it ran, how long it took (and each phase: build,
+    write, summary) and the worker's peak resident memory so far.
     """
     started = time.perf_counter()
     rss_before = process_rss()
     built = build_piece(parts, piece)
+    building = time.perf_counter()
     name = piece_name(Path(index), piece)
     path = Path(folder) / name
     if path.suffix == ".h5":
         write_h5_piece(built, path)
     else:
         write_vtu_piece(built, path)
+    writing = time.perf_counter()
     summary = piece_summary(built)
+    finished = time.perf_counter()
     summary.update(
         file=name,
         bytes=path.stat().st_size,
         array_bytes=built.mesh.nbytes() + built.global_node_ids.nbytes + built.ghost.nbytes,
-        seconds=time.perf_counter() - started,
+        seconds=finished - started,
+        phases={
+            "build": building - started,
+            "write": writing - building,
+            "summary": finished - writing,
+        },
         worker=f"{socket.gethostname()}:{os.getpid()}",
         rss_before=rss_before,
         peak_rss=peak_rss(),

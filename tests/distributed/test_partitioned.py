@@ -24,12 +24,8 @@ FIELDS = ("points", "cells", "block_id", "parent", "boundary_edges", "boundary_p
 
 @pytest.fixture(scope="module")
 def client():
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    )
-    with distributed.Client(cluster) as c:
+    with bd.dask_client(workers=2) as c:
         yield c
-    cluster.close()
 
 
 def _same(a: blockmesh.Mesh, b: blockmesh.Mesh) -> None:
