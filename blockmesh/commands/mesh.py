@@ -391,8 +391,8 @@ def _run_partitioned(args: argparse.Namespace) -> int:
         return 0
     _print_report({**report, "output": None}, done="made and written by the workers")
     print(
-        f"  wrote {report['output']} and {report['partitions']} pieces in "
-        f"{pieces_dir(made.path)} ({format_bytes(made.bytes_written)}; arrays "
+        f"  wrote {printable(output)} and {report['partitions']} pieces in "
+        f"{printable(str(pieces_dir(Path(output))))} ({format_bytes(made.bytes_written)}; arrays "
         f"{format_bytes(made.array_bytes)}) on {made.workers} workers; largest worker peak "
         f"{format_bytes(made.worker_peak_bytes)} (predicted {format_bytes(predicted)})"
     )
