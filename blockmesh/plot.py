@@ -189,10 +189,11 @@ def _block_interfaces(mesh) -> np.ndarray:
         used = np.zeros(mesh.n_points, dtype=bool)
         shared = np.zeros(mesh.n_points, dtype=bool)
         mine = np.zeros(mesh.n_points, dtype=bool)
-        bounds = np.searchsorted(block_id, np.r_[blocks, blocks[-1] + 1]) if ordered else None
+        edges = np.asarray(np.searchsorted(block_id, np.r_[blocks, blocks[-1] + 1]))
+        bounds = [int(b) for b in edges.ravel()]
         for k, block in enumerate(blocks):
             mine[:] = False
-            if bounds is not None:
+            if ordered:
                 mine[mesh.cells[bounds[k] : bounds[k + 1]]] = True
             else:
                 mine[mesh.cells[block_id == block]] = True

@@ -337,7 +337,7 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     if args.polygon is not None:
         if args.domain:
             raise BlockMeshError("give either DOMAIN or --polygon, not both")
-        target = inline_polygon(args.polygon)
+        target: Domain | Mesh = inline_polygon(args.polygon)
     else:
         if len(args.domain or []) != 1:
             raise BlockMeshError("--partitions meshes one domain at a time")

@@ -471,7 +471,7 @@ def integrate_with_estimate(
     scheduler: str | None = None,
     max_points: int | None = None,
     progress: ProgressCallback | None = None,
-):
+) -> Any:
     """The integral over ``target`` at ``level``, partition by partition, with its estimate.
 
     Each worker builds its piece and integrates over it with
