@@ -1,8 +1,16 @@
-"""Export speed and size of every format, against ``np.save`` of the raw arrays as the floor.
+"""Export and import speed, size and memory of every format, against ``np.save`` as the floor.
 
 Builds the level-8 single-pentagon mesh (1 679 616 cells, 2 520 065 nodes), writes it in each
 format (each run in a fresh temporary directory) and prints a table: seconds, size in MB, and
-both as ratios to ``np.save`` of ``points`` and ``cells`` (the cheapest possible dump). Run::
+both as ratios to ``np.save`` of ``points`` and ``cells`` (the cheapest possible dump). With
+``--read`` each file is also read back with :func:`blockmesh.read`, in a forked child so that its
+memory is its own: the read time, its ratio to the write time (target: <= 5x), and the peak
+resident memory the read adds (``VmHWM`` after the read less ``VmRSS`` before it, Linux), as a
+ratio to the mesh's own arrays (``Mesh.nbytes()``; target: <= 3x). The Mesh's own validity
+check, which every reader runs, is measured alone on the first line ("Mesh(...) check": the
+arrays given as read-only, so not copied). Allocations of 1 MB or more are mapped one by one
+(``MALLOC_MMAP_THRESHOLD_``, set by the script) so that freed memory of the parent does not hide
+a child's peak. Run::
 
     PYTHONPATH=. python benchmarks/bench_export.py [--level 8] [--repeat 1] [--read]
 
@@ -12,7 +20,9 @@ This is a script, not a test: nothing here asserts a time.
 from __future__ import annotations
 
 import argparse
+import os
 import shutil
+import sys
 import tempfile
 import time
 from collections.abc import Callable
@@ -29,12 +39,14 @@ SP = np.array([[-1, -1], [1, -1], [2, 0], [0, 1], [-2, 0]], dtype=float)
 CASES: list[tuple[str, str, dict]] = [
     ("vtu zlib (default)", "mesh.vtu", {}),
     ("vtu none", "mesh.vtu", {"compression": "none"}),
+    ("vtk (legacy)", "mesh.vtk", {}),
     ("xdmf+h5 (default)", "mesh.xdmf", {}),
     ("xdmf+h5 zlib", "mesh.xdmf", {"compression": "zlib"}),
+    ("msh tri5 (default)", "mesh.msh", {}),
     ("msh tri3", "mesh.msh", {"split": "tri3"}),
-    ("msh tri5", "mesh.msh", {"split": "tri5"}),
     ("msh quad5", "mesh.msh", {"split": "quad5"}),
     ("mat", "mesh.mat", {}),
+    ("mat zlib", "mesh.mat", {"compression": "zlib"}),
     ("openfoam", "case", {"format": "openfoam"}),
     ("npz", "mesh.npz", {}),
     ("npz zlib", "mesh.npz", {"compression": "zlib"}),
@@ -62,8 +74,44 @@ def _timed(fn: Callable[[Path], object], name: str, repeat: int) -> tuple[float,
     return best, size, keep
 
 
+def _status(key: str) -> int:
+    """A ``/proc/self/status`` entry in bytes (``VmRSS``, ``VmHWM``)."""
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(key + ":"):
+                return int(line.split()[1]) * 1024
+    raise KeyError(key)
+
+
+def _in_child(fn: Callable[[], object]) -> tuple[float, int]:
+    """Seconds and peak added resident bytes of ``fn()``, run in a forked child process."""
+    read_end, write_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: reset the high-water mark, run, report
+        os.close(read_end)
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+        base = _status("VmRSS")
+        start = time.perf_counter()
+        fn()
+        seconds = time.perf_counter() - start
+        os.write(write_end, f"{seconds} {_status('VmHWM') - base}".encode())
+        os._exit(0)
+    os.close(write_end)
+    with os.fdopen(read_end) as f:
+        text = f.read()
+    os.waitpid(pid, 0)
+    seconds, peak = text.split()
+    return float(seconds), int(peak)
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    if os.environ.get("MALLOC_MMAP_THRESHOLD_") is None:
+        # every allocation of 1 MB or more gets its own pages (no reuse of freed heap memory),
+        # so a read's peak resident memory is measured, not hidden by the parent's free heap
+        os.environ["MALLOC_MMAP_THRESHOLD_"] = str(1 << 20)
+        os.execv(sys.executable, [sys.executable, *sys.argv])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--level", type=int, default=8)
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--read", action="store_true", help="also time reading each file back")
@@ -71,9 +119,10 @@ def main() -> None:
 
     start = time.perf_counter()
     mesh = refine(Mesh.from_cells(SP, [[0, 1, 2, 3, 4]]), args.level)
+    size = mesh.nbytes()
     print(
-        f"level {args.level}: {mesh.n_cells:,} cells, {mesh.n_points:,} nodes "
-        f"(refined in {time.perf_counter() - start:.2f} s)\n"
+        f"level {args.level}: {mesh.n_cells:,} cells, {mesh.n_points:,} nodes, "
+        f"{size / 1e6:.0f} MB of arrays (refined in {time.perf_counter() - start:.2f} s)\n"
     )
 
     def floor(target: Path) -> None:
@@ -85,18 +134,27 @@ def main() -> None:
     shutil.rmtree(d0.parent, ignore_errors=True)
     header = f"{'format':<20} {'write s':>8} {'x floor':>8} {'MB':>8} {'x floor':>8}"
     if args.read:
-        header += f" {'read s':>8}"
+        header += f" {'read s':>8} {'x write':>8} {'peak MB':>8} {'x mesh':>7}"
     print(header)
     print("-" * len(header))
     print(f"{'np.save (floor)':<20} {t0:8.2f} {1:8.1f} {s0 / 1e6:8.1f} {1:8.1f}")
+    if args.read:
+        names = ("points", "cells", "block_id", "parent", "region", "boundary_edges")
+        arrays = {k: getattr(mesh, k) for k in (*names, "boundary_patch")}
+
+        def check() -> Mesh:  # read-only arrays: taken over, not copied
+            return Mesh(**arrays, patch_names=mesh.patch_names, region_names=mesh.region_names)
+
+        tc, pc = _in_child(check)
+        print(f"{'Mesh(...) check':<20} {'':>8} {'':>8} {'':>8} {'':>8} {tc:8.2f} {'':>8} "
+              f"{pc / 1e6:8.0f} {pc / size:7.2f}")  # fmt: skip
     for label, name, kwargs in CASES:
         t, s, target = _timed(lambda p, kw=kwargs: io.write(mesh, p, **kw), name, args.repeat)
         row = f"{label:<20} {t:8.2f} {t / t0:8.1f} {s / 1e6:8.1f} {s / s0:8.1f}"
         if args.read:
             fmt = kwargs.get("format")
-            start = time.perf_counter()
-            io.read(target, format=fmt)
-            row += f" {time.perf_counter() - start:8.2f}"
+            tr, peak = _in_child(lambda target=target, fmt=fmt: io.read(target, format=fmt))
+            row += f" {tr:8.2f} {tr / t:8.1f} {peak / 1e6:8.0f} {peak / size:7.2f}"
         print(row, flush=True)
         shutil.rmtree(target.parent, ignore_errors=True)
 

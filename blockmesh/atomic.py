@@ -1,11 +1,28 @@
-"""Atomic writes: build the output next to its target under a temporary name, then rename it.
+"""Atomic outputs: build every output beside its target under a hidden name, commit by one rename.
 
-Used by every writer (:mod:`blockmesh.io`), the pictures and the domain files.
+Used by every writer (:mod:`blockmesh.io`), the pictures, the tables' CSV and the domain files. A
+reader of the target sees the old output or the new one, never a truncated file or a mix, even if
+the writing process is killed. Three shapes of output:
 
-An exception (or Ctrl-C) while the output is being written removes the temporary file and leaves
-any existing file untouched; a reader never sees a half-written file. Several files that belong
-together (an ``.xdmf`` and its ``.h5``) are renamed one after the other and put back as they were
-if a rename fails. A directory (an OpenFOAM ``polyMesh``) is swapped in by two renames.
+one file (:func:`atomic_file`)
+    written to a temporary file, then renamed onto the target.
+a folder (:func:`atomic_dir`, an OpenFOAM ``polyMesh`` or case)
+    built as a temporary folder, then swapped with the old one in one step (Linux
+    ``renameat2(RENAME_EXCHANGE)``). Where the system cannot swap, the old folder is first
+    renamed aside; a kill between the two renames is repaired by the next write to the target,
+    which puts the old folder back.
+a light file naming a data file (:func:`atomic_with_data`, an ``.xdmf`` and its ``.h5``)
+    the data file gets a new name of its own (``STEM.<8 hex digits>.h5``) and is renamed in first;
+    renaming the light file, which names it, is the commit. Data files of earlier writes are
+    removed after it.
+
+Temporary names are ``.NAME.HOST-PID-RANDOM.tmp`` (and ``.old`` for a folder moved aside). A later
+write to the same target removes those whose process no longer runs on this machine: what a
+killed run left behind (see :func:`clean_stale`).
+
+Operating-system failures (no space left, read-only file system, permission denied, a path
+component that is not a folder) become one :class:`~blockmesh.errors.ExportError` naming the
+target and the cause.
 
 Examples
 --------
@@ -13,25 +30,123 @@ Examples
 >>> target = pathlib.Path(tempfile.mkdtemp()) / "out.txt"
 >>> with atomic_file(target) as tmp:
 ...     _ = tmp.write_text("done")
->>> target.read_text()
-'done'
+>>> target.read_text(), sorted(p.name for p in target.parent.iterdir())
+('done', ['out.txt'])
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import errno
+import functools
 import os
+import re
+import secrets
 import shutil
+import socket
 import stat
-import tempfile
-from collections.abc import Iterator
+import sys
+import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from .errors import ExportError
 
-__all__ = ["atomic_dir", "atomic_file", "atomic_files", "check_target", "scratch_file"]
+__all__ = [
+    "atomic_dir",
+    "atomic_file",
+    "atomic_files",
+    "atomic_with_data",
+    "check_target",
+    "clean_stale",
+    "data_files",
+    "export_error",
+    "export_errors",
+    "scratch_file",
+]
+
+_HOST = re.sub(r"[^A-Za-z0-9]", "", socket.gethostname())[:24] or "host"
+_TAG = re.compile(r"(?P<host>[A-Za-z0-9]+)-(?P<pid>\d+)-[0-9a-f]{6}")
+#: Names ``tempfile.mkstemp`` gave temporaries before the tags: stale once an hour old.
+_UNTAGGED = re.compile(r"[a-z0-9_]{8}")
+_UNTAGGED_AGE = 3600.0
+_DATA_TOKEN = r"[0-9a-f]{8}"
+
+_HINTS = {
+    errno.ENOSPC: "free some space or write elsewhere",
+    errno.EDQUOT: "free some space or write elsewhere",
+    errno.EROFS: "write to a folder on a writable file system",
+    errno.EACCES: "check the folder's permissions, or write elsewhere",
+    errno.EPERM: "check the folder's permissions, or write elsewhere",
+    errno.ENOTDIR: "a part of the path is a file, not a folder",
+    errno.ENAMETOOLONG: "choose a shorter name",
+}
 
 
+# ------------------------------------------------------------------------- error reporting
+def export_error(error: OSError, target: Path) -> ExportError:
+    """The :class:`ExportError` for an OS failure while writing ``target``: path and cause.
+
+    Examples
+    --------
+    >>> import errno
+    >>> print(export_error(OSError(errno.ENOSPC, "No space left on device"), Path("/d/m.vtu")))
+    cannot write /d/m.vtu: No space left on device (ENOSPC); free some space or write elsewhere
+    """
+    number = error.errno or 0
+    code = errno.errorcode.get(number)
+    reason = os.strerror(number) if code else (error.strerror or str(error))
+    reason = reason or type(error).__name__
+    text = f"cannot write {target}: {reason}"
+    if code:
+        text += f" ({code})"
+    hint = _HINTS.get(error.errno or 0)
+    return ExportError(f"{text}; {hint}" if hint else text)
+
+
+@contextlib.contextmanager
+def export_errors(target: Path) -> Iterator[None]:
+    """Turn an :class:`OSError` raised in the block into :func:`export_error` for ``target``."""
+    try:
+        yield
+    except OSError as error:
+        raise export_error(error, Path(target)) from error
+
+
+def check_target(path: Path, *, directory: bool = False) -> Path:
+    """The absolute target path, after checking its parent folder exists.
+
+    Raises :class:`ExportError` naming the missing folder (or the file in the way), or when a file
+    target is an existing folder (or a folder target an existing file).
+
+    Examples
+    --------
+    >>> check_target(Path("/no/dir/m.vtu"))
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ExportError: cannot write /no/dir/m.vtu: the directory /no/dir does not ...
+    """
+    path = Path(path).absolute()
+    parent = path.parent
+    if not parent.is_dir():
+        blocker = next((p for p in (parent, *parent.parents) if os.path.lexists(p)), None)
+        if blocker is not None and not blocker.is_dir():
+            raise ExportError(
+                f"cannot write {path}: {blocker} is a file, not a directory; choose another folder"
+            )
+        raise ExportError(
+            f"cannot write {path}: the directory {parent} does not exist; "
+            f"create it first (mkdir -p {parent})"
+        )
+    if not directory and path.is_dir():
+        raise ExportError(f"cannot write {path}: it is a directory; give a file name")
+    if directory and path.exists() and not path.is_dir():
+        raise ExportError(f"cannot write the directory {path}: a file of that name exists")
+    return path
+
+
+# --------------------------------------------------------------------------- temporaries
 def _umask() -> int:
     try:
         with open("/proc/self/status") as f:
@@ -50,37 +165,30 @@ def _mode_for(target: Path, default: int) -> int:
         return default & ~_umask()
 
 
-def check_target(path: Path, *, directory: bool = False) -> Path:
-    """The absolute target path, after checking its parent directory exists.
-
-    Raises :class:`ExportError` naming the missing directory, or when a file target is an
-    existing directory (or a directory target an existing file).
-
-    Examples
-    --------
-    >>> check_target(Path("/no/dir/m.vtu"))
-    Traceback (most recent call last):
-    ...
-    blockmesh.errors.ExportError: cannot write /no/dir/m.vtu: the directory /no/dir does not ...
-    """
-    path = Path(path).absolute()
-    parent = path.parent
-    if not parent.is_dir():
-        raise ExportError(
-            f"cannot write {path}: the directory {parent} does not exist; "
-            f"create it first (mkdir -p {parent})"
-        )
-    if not directory and path.is_dir():
-        raise ExportError(f"cannot write {path}: it is a directory; give a file name")
-    if directory and path.exists() and not path.is_dir():
-        raise ExportError(f"cannot write the directory {path}: a file of that name exists")
-    return path
+def _temp_path(target: Path, kind: str = "tmp") -> Path:
+    tag = f"{_HOST}-{os.getpid()}-{secrets.token_hex(3)}"
+    return target.with_name(f".{target.name}.{tag}.{kind}")
 
 
-def _temp_file(target: Path) -> Path:
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    os.close(fd)
-    return Path(name)
+def _new_temp_file(target: Path) -> Path:
+    while True:
+        tmp = _temp_path(target)
+        try:
+            fd = os.open(tmp, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return tmp
+
+
+def _new_temp_dir(target: Path) -> Path:
+    while True:
+        tmp = _temp_path(target)
+        try:
+            os.mkdir(tmp, 0o700)
+        except FileExistsError:
+            continue
+        return tmp
 
 
 def _unlink(path: Path) -> None:
@@ -88,56 +196,155 @@ def _unlink(path: Path) -> None:
         path.unlink()
 
 
-@contextlib.contextmanager
-def atomic_files(*targets: Path) -> Iterator[tuple[Path, ...]]:
-    """Temporary paths for ``targets``, renamed onto them when the block ends without error.
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        _unlink(path)
 
-    The targets' parent directories must exist (see :func:`check_target`). Existing targets keep
-    their permission bits; new ones get ``0o666`` less the umask.
-    """
-    targets = tuple(check_target(t) for t in targets)
-    temps: list[Path] = []
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs on this machine (True when that cannot be known)."""
+    if pid == os.getpid() or os.name != "posix":
+        return True
     try:
-        for t in targets:
-            temps.append(_temp_file(t))
-        yield tuple(temps)
-        for tmp, target in zip(temps, targets, strict=True):
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def _is_stale(path: Path, middle: str) -> bool:
+    tag = _TAG.fullmatch(middle)
+    if tag is not None:
+        return tag["host"] == _HOST and not _alive(int(tag["pid"]))
+    if _UNTAGGED.fullmatch(middle):
+        try:
+            return time.time() - path.lstat().st_mtime > _UNTAGGED_AGE
+        except OSError:
+            return False
+    return False
+
+
+def _mtime(path: Path) -> float:
+    try:
+        return path.lstat().st_mtime
+    except OSError:  # removed meanwhile (by another writer's clean-up)
+        return 0.0
+
+
+def clean_stale(target: Path) -> list[Path]:
+    """Remove the temporaries a killed write to ``target`` left; returns the paths handled.
+
+    A temporary ``.NAME.HOST-PID-RANDOM.tmp`` (file or folder) or ``.old`` (a folder moved aside)
+    is stale when it was made on this machine by a process that no longer runs; temporaries of
+    running writers and of other machines are left alone. If the target itself is missing and a
+    stale ``.old`` folder exists, the write was killed between its two renames: the ``.old``
+    folder (the previous output, whole) is put back instead of being removed.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / f".m.vtu.{_HOST}-999999999-abcdef.tmp").write_text("left by a kill")
+    >>> [p.name.endswith(".tmp") for p in clean_stale(folder / "m.vtu")], list(folder.iterdir())
+    ([True], [])
+    """
+    target = Path(target).absolute()
+    prefix = f".{target.name}."
+    try:
+        entries = [
+            Path(e.path)
+            for e in os.scandir(target.parent)
+            if e.name.startswith(prefix) and e.name.endswith((".tmp", ".old"))
+        ]
+    except OSError:
+        return []
+    stale = [p for p in entries if _is_stale(p, p.name[len(prefix) : -4])]
+    stale.sort(key=_mtime, reverse=True)
+    for path in stale:
+        if path.name.endswith(".old") and path.is_dir() and not os.path.lexists(target):
+            with contextlib.suppress(OSError):
+                os.rename(path, target)
+                continue
+        _remove(path)
+    return stale
+
+
+# ------------------------------------------------------------------------------ one file
+@contextlib.contextmanager
+def atomic_file(target: Path) -> Iterator[Path]:
+    """A temporary path renamed onto ``target`` when the block ends without error.
+
+    The target's parent folder must exist (see :func:`check_target`). An existing target keeps its
+    permission bits; a new one gets ``0o666`` less the umask. An exception (or Ctrl-C) in the
+    block removes the temporary file and leaves the target as it was; an :class:`OSError` becomes
+    an :class:`ExportError` (see :func:`export_error`).
+    """
+    target = check_target(Path(target))
+    with export_errors(target):
+        clean_stale(target)
+        tmp = _new_temp_file(target)
+        try:
+            yield tmp
             os.chmod(tmp, _mode_for(target, 0o666))
-        _commit(temps, list(targets))
-    finally:
-        for tmp in temps:
+            os.replace(tmp, target)
+        finally:
             _unlink(tmp)
 
 
-def _keep_copy(target: Path) -> Path:
-    """A hard link (or, where links are not supported, a copy) of ``target`` beside it."""
-    backup = _temp_file(target)
-    _unlink(backup)
-    try:
-        os.link(target, backup)
-    except OSError:
-        shutil.copy2(target, backup)
-    return backup
+@contextlib.contextmanager
+def atomic_files(*targets: Path) -> Iterator[tuple[Path, ...]]:
+    """Temporary paths for several ``targets``, renamed onto them one after the other.
+
+    Each file is whole, and if a rename fails the targets already renamed are put back; but a
+    process killed between two renames leaves new and old files side by side. For a light file
+    that names a data file use :func:`atomic_with_data`, which has no such window.
+    """
+    targets = tuple(check_target(Path(t)) for t in targets)
+    with export_errors(targets[0]):
+        temps: list[Path] = []
+        try:
+            for t in targets:
+                clean_stale(t)
+                temps.append(_new_temp_file(t))
+            yield tuple(temps)
+            for tmp, t in zip(temps, targets, strict=True):
+                os.chmod(tmp, _mode_for(t, 0o666))
+            _replace_all(temps, list(targets))
+        finally:
+            for tmp in temps:
+                _unlink(tmp)
 
 
-def _commit(temps: list[Path], targets: list[Path]) -> None:
-    """Rename every temp onto its target; if one rename fails, put the old targets back."""
-    if len(targets) == 1:
-        os.replace(temps[0], targets[0])
-        return
+def _replace_all(temps: list[Path], targets: list[Path]) -> None:
+    """Rename every temporary onto its target; if one rename fails, put the old targets back."""
     done: list[tuple[Path, Path | None]] = []
     try:
         for tmp, target in zip(temps, targets, strict=True):
-            backup = _keep_copy(target) if target.exists() else None
+            backup = None
+            if os.path.lexists(target):
+                backup = _temp_path(target)
+                try:
+                    os.link(target, backup)
+                except OSError:  # no hard links on this file system
+                    shutil.copy2(target, backup)
+            try:
+                os.replace(tmp, target)
+            except BaseException:
+                if backup is not None:
+                    _unlink(backup)
+                raise
             done.append((target, backup))
-            os.replace(tmp, target)
     except BaseException:
-        for target, backup in reversed(done):
-            if backup is not None:
-                os.replace(backup, target)
-                _unlink(backup)  # still there when it was a link to the unreplaced target
-            else:
-                _unlink(target)
+        for target, backup in reversed(done):  # each put back, whatever the others do
+            with contextlib.suppress(OSError):
+                if backup is not None:
+                    os.replace(backup, target)
+                else:
+                    target.unlink()
         raise
     for _, backup in done:
         if backup is not None:
@@ -145,49 +352,167 @@ def _commit(temps: list[Path], targets: list[Path]) -> None:
 
 
 @contextlib.contextmanager
-def atomic_file(target: Path) -> Iterator[Path]:
-    """A temporary path renamed onto ``target`` when the block ends without error."""
-    with atomic_files(target) as (tmp,):
-        yield tmp
-
-
-@contextlib.contextmanager
 def scratch_file(target: Path) -> Iterator[Path]:
     """A temporary file beside ``target``, deleted when the block ends (for intermediate output)."""
-    tmp = _temp_file(Path(target).absolute())
+    target = Path(target).absolute()
+    with export_errors(target):
+        tmp = _new_temp_file(target)
+        try:
+            yield tmp
+        finally:
+            _unlink(tmp)
+
+
+# -------------------------------------------------------------------------------- folders
+@functools.cache
+def _renameat2() -> Callable[..., int] | None:
+    if not sys.platform.startswith("linux"):
+        return None
     try:
-        yield tmp
-    finally:
-        _unlink(tmp)
+        func = ctypes.CDLL(None, use_errno=True).renameat2
+    except (AttributeError, OSError):
+        return None
+    func.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    func.restype = ctypes.c_int
+    return func
+
+
+_AT_FDCWD, _RENAME_EXCHANGE = -100, 2
+_CANNOT_EXCHANGE = {errno.EINVAL, errno.ENOSYS, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EXDEV}
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap the paths ``a`` and ``b`` in one step; False where the system cannot."""
+    func = _renameat2()
+    if func is None:
+        return False
+    if func(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in _CANNOT_EXCHANGE:
+        return False
+    raise OSError(code, os.strerror(code), os.fspath(b))
+
+
+def _swap_in(new: Path, target: Path) -> None:
+    """Put the folder ``new`` at ``target``; afterwards ``new`` holds the old folder, if any."""
+    if not os.path.lexists(target):
+        os.rename(new, target)
+        return
+    if _exchange(new, target):
+        return
+    old = _temp_path(target, "old")
+    os.rename(target, old)
+    try:
+        os.rename(new, target)
+    except BaseException:
+        os.rename(old, target)
+        raise
+    os.rename(old, new)
 
 
 @contextlib.contextmanager
 def atomic_dir(target: Path) -> Iterator[Path]:
-    """A temporary directory that replaces the directory ``target`` when the block succeeds.
+    """A temporary folder that replaces the folder ``target`` when the block succeeds.
 
-    An existing ``target`` is moved aside, the new one renamed in, and the old one deleted; if the
-    block raises, the temporary directory is deleted and ``target`` is left as it was.
+    The new folder is swapped with the old one in one step where the system can (Linux); else the
+    old one is renamed aside first (a kill then is repaired by the next write, see
+    :func:`clean_stale`). The old folder is deleted afterwards. If the block raises, the
+    temporary folder is deleted and ``target`` is left as it was.
     """
-    target = check_target(target, directory=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
-    try:
-        yield tmp
-        os.chmod(tmp, _mode_for(target, 0o777))
-        old = None
-        if target.exists():
-            old = Path(
-                tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent)
-            )
-            os.rmdir(old)
-            os.rename(target, old)
+    target = check_target(Path(target), directory=True)
+    with export_errors(target):
+        clean_stale(target)
+        tmp = _new_temp_dir(target)
         try:
-            os.rename(tmp, target)
-        except BaseException:
-            if old is not None:
-                os.rename(old, target)
-            raise
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+            yield tmp
+            os.chmod(tmp, _mode_for(target, 0o777))
+            _swap_in(tmp, target)
+        finally:
+            _remove(tmp)
+
+
+# -------------------------------------------------------------- light file + data file
+@contextlib.contextmanager
+def _folder_lock(folder: Path) -> Iterator[None]:
+    """An exclusive lock on ``folder`` (flock) for the block, where the system offers one."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX
+        yield
+        return
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        yield
+        return
+    try:
+        with contextlib.suppress(OSError):
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
     finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
+        os.close(fd)
+
+
+def data_files(light: Path, suffix: str) -> list[Path]:
+    """The files beside ``light`` named like its data files.
+
+    That is ``STEM.<8 hex digits>SUFFIX`` and ``STEMSUFFIX`` (the name before the digits).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> for name in ("m.xdmf", "m.h5", "m.0123abcd.h5", "m.x.h5", "other.h5"):
+    ...     _ = (folder / name).write_text("")
+    >>> [p.name for p in data_files(folder / "m.xdmf", ".h5")]
+    ['m.0123abcd.h5', 'm.h5']
+    """
+    light = Path(light).absolute()
+    pattern = re.compile(re.escape(light.stem) + rf"(\.{_DATA_TOKEN})?" + re.escape(suffix))
+    try:
+        names = [e.name for e in os.scandir(light.parent) if pattern.fullmatch(e.name)]
+    except OSError:
+        return []
+    return sorted(light.parent / name for name in names)
+
+
+@contextlib.contextmanager
+def atomic_with_data(
+    light: Path, suffix: str, *, owned: Callable[[Path], bool]
+) -> Iterator[tuple[Path, Path, Path]]:
+    """Temporary paths for a light file and its data file, committed together.
+
+    Yields ``(light_tmp, data_tmp, data)``: write the data to ``data_tmp`` and, to ``light_tmp``,
+    a light file that names the data file ``data.name`` (``STEM.<8 hex digits>SUFFIX``, a name no
+    file has). When the block succeeds, ``data_tmp`` is renamed to ``data`` and then ``light_tmp``
+    onto ``light``: that last rename is the commit, so a reader finds the old pair or the new one.
+    Then the data files of earlier writes (:func:`data_files` for which ``owned(path)`` is true)
+    are removed. Commits of concurrent writers to the same folder are serialised (flock).
+    """
+    light = check_target(Path(light))
+    with export_errors(light):
+        clean_stale(light)
+        while True:
+            data = light.with_name(f"{light.stem}.{secrets.token_hex(4)}{suffix}")
+            if not os.path.lexists(data):
+                break
+        light_tmp, data_tmp = _new_temp_file(light), _new_temp_file(light)
+        try:
+            yield light_tmp, data_tmp, data
+            mode = _mode_for(light, 0o666)
+            os.chmod(light_tmp, mode)
+            os.chmod(data_tmp, mode)
+            with _folder_lock(light.parent):
+                os.replace(data_tmp, data)
+                try:
+                    os.replace(light_tmp, light)
+                except BaseException:
+                    _unlink(data)
+                    raise
+                for old in data_files(light, suffix):
+                    if old != data and owned(old):
+                        _unlink(old)
+        finally:
+            _unlink(light_tmp)
+            _unlink(data_tmp)

@@ -5,7 +5,7 @@ A double-double number is a pair ``(hi, lo)`` of float64 values (or arrays) with
 transformations of Knuth (``two_sum``) and Dekker (``split``, ``two_prod``), which need no fused
 multiply-add and so give the same bits on every machine. Used by the Gauss rules
 (:mod:`blockmesh.gauss`, Newton steps to full double precision) and by the exact decimal printing
-of :mod:`blockmesh.io._ascii`.
+of :mod:`blockmesh.io.text`.
 
 Examples
 --------

@@ -24,7 +24,7 @@ import numpy as np
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
 from .geometry import signed_area
 from .measures import CellMeasures, measure_cells
-from .topology import boundary_of_cells, boundary_slots, cell_neighbours
+from .topology import boundary_of_cells, check_boundary
 
 __all__ = ["Mesh", "MeshQuality"]
 
@@ -231,8 +231,7 @@ class Mesh:
                     f"cell {bad} (nodes {', '.join(map(str, self.cells[bad]))}) is clockwise or "
                     "has no area; cells run counter-clockwise"
                 )
-        neighbour = cell_neighbours(self.cells, self.n_points)
-        boundary_slots(self.cells, neighbour, self.boundary_edges, self.n_points)
+        check_boundary(self.cells, self.boundary_edges, self.n_points)
 
     @classmethod
     def from_cells(

@@ -23,35 +23,53 @@ import numbers
 import re
 import warnings
 from collections.abc import Iterable, Mapping
+from typing import NamedTuple
 
 import numpy as np
 import shapely
 
 from .errors import BlockMeshWarning, DomainError, DomainFormatError, TopologyError
-from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
+from .geometry import (
+    COLLINEAR_SIN_TOL,
+    LocalFrame,
+    corner_sines,
+    interior_angles,
+    local_frame,
+    signed_area,
+)
 from .topology import connected_pieces
 
 __all__ = [
     "DEFAULT_PATCH",
     "DEFAULT_REGION",
     "GAP_TOL",
+    "MAX_COORDINATE",
+    "NEAR_TOL",
+    "Ring",
     "check_block_shapes",
-    "check_polygon",
+    "check_rings",
     "check_topology",
     "fmt_point",
     "parse_blocks",
     "parse_points",
     "resolve_patches",
     "resolve_regions",
+    "ring_label",
 ]
 
 #: Patch of every boundary edge no patch names.
 DEFAULT_PATCH = "boundary"
 #: Region of every block no region names.
 DEFAULT_REGION = "domain"
-#: Two distinct points closer than this (relative to the domain's size) are "the same point";
-#: a vertex this close to an edge it is not on leaves a gap or a hanging node.
-GAP_TOL = 1e-9
+#: Two distinct points closer than this (relative to the domain's size, or 4 ulps of its
+#: coordinates where that is more) are "the same point"; a vertex this close to an edge it is not
+#: on is a hanging node. Small enough for slivers of aspect ratio up to about 1e10.
+GAP_TOL = 1e-11
+#: Separate boundary loops (or rings) closer than this, relative to the domain's size, are taken
+#: for a gap between blocks that should meet (or rings that touch).
+NEAR_TOL = 1e-6
+#: Largest coordinate magnitude accepted: squares of coordinate differences must stay finite.
+MAX_COORDINATE = 1e150
 #: Most problems listed in one message.
 _MAX_LISTED = 8
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
@@ -99,6 +117,8 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
             raise DomainFormatError(f"{what} coordinates must have shape (n, 2), got {raw.shape}")
         if not (np.issubdtype(raw.dtype, np.number) and not np.issubdtype(raw.dtype, np.bool_)):
             raise DomainFormatError(f"{what} coordinates must be numbers, got dtype {raw.dtype}")
+        if np.issubdtype(raw.dtype, np.floating) or np.issubdtype(raw.dtype, np.integer):
+            return _checked_values(np.array(raw, dtype=np.float64), what)
         items = raw.tolist()
     elif isinstance(raw, str | bytes) or not isinstance(raw, Iterable):
         raise DomainFormatError(
@@ -122,7 +142,18 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
                     f"a number ({value!r}); coordinates must be numbers"
                 )
     _raise(DomainFormatError, problems)
-    points = np.array(items, dtype=np.float64).reshape(-1, 2)
+    try:
+        points = np.array(items, dtype=np.float64).reshape(-1, 2)
+    except OverflowError:
+        big = next(i for i, item in enumerate(items) if not _fits(item))
+        raise DomainError(
+            f"{what} {big} has a coordinate too large for a double ({_short(items[big])}); "
+            f"coordinates must be at most {MAX_COORDINATE:g} in magnitude"
+        ) from None
+    return _checked_values(points, what)
+
+
+def _checked_values(points: np.ndarray, what: str) -> np.ndarray:
     bad = np.flatnonzero(~np.all(np.isfinite(points), axis=1))
     _raise(
         DomainError,
@@ -132,154 +163,330 @@ def parse_points(raw: object, what: str = "vertex") -> np.ndarray:
             for i in bad
         ],
     )
+    huge = np.flatnonzero(np.any(np.abs(points) > MAX_COORDINATE, axis=1))
+    _raise(
+        DomainError,
+        [
+            f"{what} {i} {fmt_point(points[i])} is too far out: coordinates must be at most "
+            f"{MAX_COORDINATE:g} in magnitude (move the domain nearer the origin, or change units)"
+            for i in huge
+        ],
+    )
     return points
 
 
-def _scale(points: np.ndarray) -> float:
-    """The size of a point set: the diagonal of its bounding box."""
-    extent = np.ptp(points, axis=0) if points.size else np.zeros(2)
-    return float(max(np.hypot(*extent), 1e-300))
+def _fits(item: Iterable) -> bool:
+    try:
+        np.array(list(item), dtype=np.float64)
+    except OverflowError:
+        return False
+    return True
+
+
+def _short(item: object) -> str:
+    text = repr(item)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _coincident_pairs(points: np.ndarray) -> list[tuple[int, int]]:
     from scipy.spatial import cKDTree
 
-    tol = GAP_TOL * _scale(points)
-    pairs = cKDTree(points).query_pairs(r=tol, output_type="ndarray")
+    frame = local_frame(points)
+    pairs = cKDTree(frame.to_local(points)).query_pairs(
+        r=_same_point_tol(frame), output_type="ndarray"
+    )
     return sorted((int(a), int(b)) for a, b in np.sort(pairs, axis=1))
 
 
 # --------------------------------------------------------------------------- polygons
-def check_polygon(
-    points: np.ndarray, edge_patch: list[str | None] | None = None
-) -> tuple[np.ndarray, np.ndarray]:
-    """Validate a convex polygon and bring it to counter-clockwise, strictly convex form.
+def ring_label(ring: int) -> str:
+    """How messages name a ring: ``"the polygon"`` (ring 0) or ``"hole K"`` (ring K + 1)."""
+    return "the polygon" if ring == 0 else f"hole {ring - 1}"
+
+
+def _vertex_label(ring: int, vertex: int, point: Iterable[float]) -> str:
+    where = "vertex" if ring == 0 else f"hole {ring - 1} vertex"
+    return f"{where} {vertex} {fmt_point(point)}"
+
+
+class Ring(NamedTuple):
+    """A validated ring: its corners and where each came from in the input.
+
+    Attributes
+    ----------
+    points : ndarray (m, 2)
+        The corners, with the domain on the left of every edge (the outer ring counter-clockwise,
+        holes clockwise), the input's first corner first.
+    vertex : ndarray (m,)
+        The input index of each corner.
+    reversed : bool
+        Whether the input ran the other way round.
+    given : ndarray (size, 2)
+        The input corners (after dropping a closing repeat), in the input's order.
+    """
+
+    points: np.ndarray
+    vertex: np.ndarray
+    reversed: bool
+    given: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of corners in the input (after dropping a closing repeat)."""
+        return int(self.given.shape[0])
+
+    def input_edges(self, i: int) -> list[int]:
+        """The input edges that output edge ``i`` runs along, in order along it.
+
+        Several when straight corners between them were dropped. Input edge j runs from input
+        corner j to j + 1.
+        """
+        a, b = int(self.vertex[i]), int(self.vertex[(i + 1) % len(self.vertex)])
+        if self.reversed:
+            count = (a - b) % self.size
+            return [(a - 1 - k) % self.size for k in range(count)]
+        count = (b - a) % self.size
+        return [(a + k) % self.size for k in range(count)]
+
+
+def check_rings(
+    rings: list[np.ndarray], edge_patch: list[list[str | None]] | None = None
+) -> list[Ring]:
+    """Validate a polygon with holes and bring it to the form the decomposition needs.
 
     Parameters
     ----------
-    points : ndarray (n, 2)
-        Corners in order (already parsed by :func:`parse_points`).
-    edge_patch : list, optional
-        Patch name of each edge (edge i runs from corner i to corner i+1), or None entries.
+    rings : list of ndarray (n_r, 2)
+        The outer boundary first, then the holes, each a list of corners in order (already
+        parsed by :func:`parse_points`).
+    edge_patch : list of lists, optional
+        For each ring, the patch name of each edge as given (edge i runs from corner i to corner
+        i + 1), or None entries.
 
     Returns
     -------
-    polygon : ndarray (m, 2)
-        Counter-clockwise corners, corner 0 first, straight corners dropped.
-    source_edge : ndarray (m,)
-        For each output edge, the input edge it starts with (to carry patches over).
+    list of Ring
+        Ring 0 counter-clockwise, the holes clockwise (the domain on the left of every edge), each
+        input's first corner kept first; straight corners dropped unless they separate two
+        patches.
 
-    Repairs with a warning: a last vertex repeating the first (dropped), clockwise order
-    (reversed, vertex 0 stays first), straight corners (dropped; an error if they separate two
-    different patches). Raises DomainError for everything else.
+    Repairs with a warning: a last vertex repeating the first (dropped), a clockwise outer
+    boundary (reversed; holes may be given either way round), straight corners that do not
+    separate patches (dropped). Raises DomainError, naming the vertex, edge or hole, for: fewer
+    than 3 corners, repeated points, crossing or touching edges, zero area, holes outside the
+    polygon, inside another hole, crossing or touching the boundary or each other.
 
     Examples
     --------
-    >>> poly, source = check_polygon(np.array([[0, 0], [1, 0], [1, 1.0]]))
-    >>> poly.tolist(), source.tolist()
-    ([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [0, 1, 2])
+    >>> square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], dtype=float)
+    >>> hole = np.array([[1, 1], [2, 1], [2, 2], [1, 2]], dtype=float)
+    >>> outer, inner = check_rings([square, hole])
+    >>> inner.points.tolist(), inner.vertex.tolist(), inner.reversed  # now clockwise
+    ([[1.0, 1.0], [1.0, 2.0], [2.0, 2.0], [2.0, 1.0]], [0, 3, 2, 1], True)
+    >>> inner.input_edges(0)  # (1, 1) -> (1, 2) runs backwards along input edge 3
+    [3]
     """
-    pts = np.asarray(points, dtype=np.float64)
-    n = pts.shape[0]
-    source = np.arange(n)
-    if n >= 4 and np.array_equal(pts[0], pts[-1]):
-        warnings.warn(
-            f"the last vertex {fmt_point(pts[-1])} repeats the first; it was dropped "
-            "(a polygon is closed automatically)",
-            BlockMeshWarning,
-            stacklevel=3,
-        )
-        pts, source, n = pts[:-1], source[:-1], n - 1
-    if n < 3:
-        raise DomainError(f"a polygon needs at least 3 vertices, got {n}")
-    same = _coincident_pairs(pts)
-    _raise(
-        DomainError,
-        [
-            f"vertices {a} and {b} are the same point {fmt_point(pts[a])}: each corner must be "
-            "listed once"
-            for a, b in same
-        ],
-    )
-    crossing = _crossing_edges(pts)
-    if crossing:
-        raise DomainError(crossing)
-    scale = _scale(pts)
-    area = float(signed_area(pts))
-    if abs(area) <= 1e-12 * scale**2:
-        raise DomainError(
-            f"the polygon has zero area ({area:.3g}): its vertices lie on one line; "
-            "give the corners of a real region"
-        )
-    if not shapely.is_valid(shapely.Polygon(pts)):
-        reason = shapely.is_valid_reason(shapely.Polygon(pts))
-        raise DomainError(
-            f"the polygon is not simple ({reason}): list the vertices in order around the boundary"
-        )
-    if area < 0:
-        warnings.warn(
-            "the polygon was given clockwise; its vertices were reversed to counter-clockwise "
-            "order (vertex 0 stays first)",
-            BlockMeshWarning,
-            stacklevel=3,
-        )
-        order = np.r_[0, np.arange(n - 1, 0, -1)]
-        pts = pts[order]
-        # Edge i of the reversed polygon runs along input edge order[i+1] (backwards).
-        source = source[np.roll(order, -1)]
-    sines = corner_sines(pts)
-    straight = np.flatnonzero(np.abs(sines) <= COLLINEAR_SIN_TOL)
-    reflex = np.flatnonzero(sines < -COLLINEAR_SIN_TOL)
-    if reflex.size:
-        angles = interior_angles(pts)
-        corners = ", ".join(
-            f"vertex {int(source[i])} {fmt_point(pts[i])} ({angles[i]:.1f}°)" for i in reflex[:4]
-        )
-        raise DomainError(
-            f"the polygon is not convex: the corner{'s' if reflex.size > 1 else ''} at {corners} "
-            f"turn{'' if reflex.size > 1 else 's'} inward; only convex polygons are decomposed "
-            "automatically: give explicit blocks instead (README, 'Domain files')"
-        )
-    if straight.size:
-        if edge_patch is not None:
-            for i in straight:
-                before, after = edge_patch[source[i - 1]], edge_patch[source[i]]
-                if before != after:
-                    raise DomainError(
-                        f"vertex {int(source[i])} {fmt_point(pts[i])} is a straight (180°) corner "
-                        f"between patches {before or DEFAULT_PATCH!r} and "
-                        f"{after or DEFAULT_PATCH!r}; blocks cannot have straight corners: move "
-                        "it off the line or give explicit blocks"
-                    )
-        names = ", ".join(f"vertex {int(source[i])} {fmt_point(pts[i])}" for i in straight)
-        warnings.warn(
-            f"{names} lie{'s' if straight.size == 1 else ''} on a straight line between "
-            "neighbouring corners; dropped (a block cannot have a 180° corner)",
-            BlockMeshWarning,
-            stacklevel=3,
-        )
-        keep = np.setdiff1d(np.arange(pts.shape[0]), straight)
-        pts, source = pts[keep], source[keep]
-        if pts.shape[0] < 3:
-            raise DomainError("the polygon has fewer than 3 real corners")
-    return pts, source
-
-
-def _crossing_edges(pts: np.ndarray) -> str | None:
-    """A message naming two non-adjacent edges that meet, and where; None if there are none."""
-    n = pts.shape[0]
-    segments = shapely.linestrings(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
-    first, second = shapely.STRtree(segments).query(segments, predicate="intersects")
-    adjacent = (second == first) | (second == (first + 1) % n) | (first == (second + 1) % n)
-    for i, j in zip(first[~adjacent], second[~adjacent], strict=True):
-        if i < j:
-            where = shapely.get_coordinates(shapely.intersection(segments[i], segments[j]))[0]
-            return (
-                f"the polygon's edges {i} {fmt_point(pts[i])}->{fmt_point(pts[(i + 1) % n])} and "
-                f"{j} {fmt_point(pts[j])}->{fmt_point(pts[(j + 1) % n])} cross at "
-                f"{fmt_point(where)}: list the vertices in order around the boundary"
+    cleaned = []
+    for r, ring in enumerate(rings):
+        pts = _drop_closing_vertex(np.asarray(ring, dtype=np.float64).reshape(-1, 2), r)
+        if len(pts) < 3:
+            raise DomainError(f"{ring_label(r)} needs at least 3 vertices, got {len(pts)}")
+        cleaned.append(pts)
+    frame = local_frame(np.vstack(cleaned))
+    tol = _same_point_tol(frame)
+    local = [frame.to_local(p) for p in cleaned]
+    _check_repeated_points(local, cleaned, tol)
+    _check_crossings(local, cleaned, frame, tol)
+    for r, pts in enumerate(local):
+        area = float(signed_area(pts))
+        if abs(area) <= 1e-12 * float(np.ptp(pts, axis=0).max()) ** 2:
+            raise DomainError(
+                f"{ring_label(r)} has zero area ({area * frame.scale**2:.3g}): its vertices lie on "
+                "one line; give the corners of a real region"
             )
-    return None
+    _check_nesting(local, cleaned, frame)
+    out = []
+    for r, pts in enumerate(cleaned):
+        n = len(pts)
+        vertex = np.arange(n)
+        backwards = (float(signed_area(local[r])) < 0) == (r == 0)
+        if backwards:
+            if r == 0:
+                warnings.warn(
+                    "the polygon was given clockwise; its vertices were reversed to "
+                    "counter-clockwise order (vertex 0 stays first)",
+                    BlockMeshWarning,
+                    stacklevel=4,
+                )
+            vertex = np.r_[0, np.arange(n - 1, 0, -1)]
+        checked = Ring(pts[vertex], vertex, bool(backwards), pts)
+        patch_names = None if edge_patch is None else edge_patch[r]
+        out.append(_drop_straight_corners(checked, r, patch_names))
+    return out
+
+
+def _same_point_tol(frame: LocalFrame) -> float:
+    """Distance (local units) under which two points count as one: GAP_TOL or a few ulps."""
+    return max(GAP_TOL, 4.0 * frame.ulp() / frame.scale)
+
+
+def _drop_closing_vertex(pts: np.ndarray, ring: int) -> np.ndarray:
+    if len(pts) >= 4 and np.array_equal(pts[0], pts[-1]):
+        warnings.warn(
+            f"the last vertex {fmt_point(pts[-1])} of {ring_label(ring)} repeats the first; it was "
+            "dropped (a ring is closed automatically)",
+            BlockMeshWarning,
+            stacklevel=5,
+        )
+        return pts[:-1]
+    return pts
+
+
+def _check_repeated_points(local: list[np.ndarray], given: list[np.ndarray], tol: float) -> None:
+    from scipy.spatial import cKDTree
+
+    ring = np.concatenate([np.full(len(p), r) for r, p in enumerate(local)])
+    index = np.concatenate([np.arange(len(p)) for p in local])
+    pairs = cKDTree(np.vstack(local)).query_pairs(r=tol, output_type="ndarray")
+    problems = []
+    for a, b in sorted(map(tuple, np.sort(pairs, axis=1).tolist())):
+        ra, rb, ia, ib = int(ring[a]), int(ring[b]), int(index[a]), int(index[b])
+        point = fmt_point(given[ra][ia])
+        if ra == rb == 0:
+            problems.append(
+                f"vertices {ia} and {ib} are the same point {point}: each corner must be "
+                "listed once"
+            )
+        elif ra == rb:
+            problems.append(
+                f"{ring_label(ra)} has vertices {ia} and {ib} at the same point {point}: each "
+                "corner must be listed once"
+            )
+        else:
+            one = _vertex_label(ra, ia, given[ra][ia])
+            two = _vertex_label(rb, ib, given[rb][ib])
+            problems.append(
+                f"{one} and {two} are the same point: holes must lie strictly inside the "
+                "polygon, apart from each other"
+            )
+    _raise(DomainError, problems)
+
+
+def _ring_segments(local: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    ring = np.concatenate([np.full(len(p), r) for r, p in enumerate(local)])
+    index = np.concatenate([np.arange(len(p)) for p in local])
+    start = np.vstack(local)
+    stop = np.vstack([np.roll(p, -1, axis=0) for p in local])
+    return shapely.linestrings(np.stack([start, stop], axis=1)), ring, index
+
+
+def _check_crossings(
+    local: list[np.ndarray], given: list[np.ndarray], frame: LocalFrame, tol: float
+) -> None:
+    """Edges that cross or touch (other than neighbours at their shared corner)."""
+    segments, ring, index = _ring_segments(local)
+    first, second = shapely.STRtree(segments).query(segments, predicate="dwithin", distance=tol)
+    size = np.array([len(p) for p in local])[ring]
+    same = ring[first] == ring[second]
+    neighbours = same & (
+        (index[second] == index[first])
+        | (index[second] == (index[first] + 1) % size[first])
+        | (index[first] == (index[second] + 1) % size[first])
+    )
+    keep = (first < second) & ~neighbours
+    for i, j in zip(first[keep].tolist(), second[keep].tolist(), strict=True):
+        ri, rj, ei, ej = int(ring[i]), int(ring[j]), int(index[i]), int(index[j])
+        gap = shapely.shortest_line(segments[i], segments[j])
+        where = shapely.get_coordinates(gap).mean(axis=0)
+        frame_point = frame.to_global(where)
+        verb = "cross" if shapely.crosses(segments[i], segments[j]) else "touch"
+
+        def name(r: int, e: int) -> str:
+            p = given[r]
+            edge = f"{e} {fmt_point(p[e])}->{fmt_point(p[(e + 1) % len(p)])}"
+            return f"edge {edge}" if r == 0 else f"hole {r - 1} edge {edge}"
+
+        if ri == rj == 0:
+            raise DomainError(
+                f"the polygon's edges {ei} {fmt_point(given[0][ei])}->"
+                f"{fmt_point(given[0][(ei + 1) % len(given[0])])} and {ej} "
+                f"{fmt_point(given[0][ej])}->{fmt_point(given[0][(ej + 1) % len(given[0])])} "
+                f"{verb} at {fmt_point(frame_point)}: list the vertices in order around the "
+                "boundary (the boundary may not touch itself)"
+            )
+        if ri == rj:
+            raise DomainError(
+                f"hole {ri - 1}'s edges {ei} and {ej} {verb} at {fmt_point(frame_point)}: list "
+                "the hole's vertices in order around it (a hole may not touch itself)"
+            )
+        raise DomainError(
+            f"{name(ri, ei)} and {name(rj, ej)} {verb} at {fmt_point(frame_point)}: holes must "
+            "lie strictly inside the polygon, apart from it and from each other"
+        )
+
+
+def _check_nesting(local: list[np.ndarray], given: list[np.ndarray], frame: LocalFrame) -> None:
+    """Holes inside the polygon, not inside each other, and not nearly touching anything."""
+    if len(local) == 1:
+        return
+    outer = shapely.Polygon(local[0])
+    holes = [shapely.Polygon(h) for h in local[1:]]
+    for k, hole in enumerate(holes):
+        if not outer.contains(hole):
+            xy = local[k + 1]
+            outside = np.flatnonzero(~shapely.contains_xy(outer, xy[:, 0], xy[:, 1]))
+            v = int(outside[0]) if outside.size else 0
+            raise DomainError(
+                f"hole {k} is not inside the polygon: its vertex {v} "
+                f"{fmt_point(given[k + 1][v])} is outside; a hole must lie strictly inside"
+            )
+    tree = shapely.STRtree(holes)
+    first, second = tree.query(holes, predicate="contains")
+    for a, b in zip(first.tolist(), second.tolist(), strict=True):
+        if a != b:
+            raise DomainError(
+                f"hole {b} lies inside hole {a}: holes must not overlap (leave the inner one out, "
+                "or mesh it as a separate domain)"
+            )
+    # Near misses between different rings: the blocks between them would be slivers that the
+    # block check takes for a gap.
+    segments, ring, index = _ring_segments(local)
+    first, second = shapely.STRtree(segments).query(
+        segments, predicate="dwithin", distance=NEAR_TOL
+    )
+    keep = ring[first] < ring[second]
+    for i, j in zip(first[keep].tolist(), second[keep].tolist(), strict=True):
+        d = float(shapely.distance(segments[i], segments[j])) * frame.scale
+        raise DomainError(
+            f"{ring_label(int(ring[j]))} comes within {d:.3g} of {ring_label(int(ring[i]))} "
+            f"(edges {int(index[j])} and {int(index[i])}): rings closer than {NEAR_TOL:g} times "
+            "the domain's size are taken for touching; move them apart"
+        )
+
+
+def _drop_straight_corners(ring: Ring, r: int, edge_patch: list[str | None] | None) -> Ring:
+    """Drop straight (180 degree) corners unless they separate two patches (then they stay)."""
+    sines = corner_sines(ring.points)
+    straight = np.flatnonzero(np.abs(sines) <= COLLINEAR_SIN_TOL)
+    if edge_patch is not None and straight.size:
+        before = [ring.input_edges(int(i) - 1)[-1] for i in straight]
+        after = [ring.input_edges(int(i))[0] for i in straight]
+        keep = [edge_patch[e] != edge_patch[f] for e, f in zip(before, after, strict=True)]
+        straight = straight[~np.array(keep, dtype=bool)]
+    if straight.size == 0:
+        return ring
+    names = ", ".join(_vertex_label(r, int(ring.vertex[i]), ring.points[i]) for i in straight[:6])
+    more = f" and {straight.size - 6} more" if straight.size > 6 else ""
+    warnings.warn(
+        f"{names}{more} lie{'s' if straight.size == 1 else ''} on a straight line between "
+        "neighbouring corners; dropped (a straight corner is kept only where two patches meet)",
+        BlockMeshWarning,
+        stacklevel=5,
+    )
+    keep_ids = np.setdiff1d(np.arange(ring.points.shape[0]), straight)
+    if keep_ids.size < 3:
+        raise DomainError(f"{ring_label(r)} has fewer than 3 real corners")
+    return Ring(ring.points[keep_ids], ring.vertex[keep_ids], ring.reversed, ring.given)
 
 
 # --------------------------------------------------------------------------- blocks
@@ -295,7 +502,23 @@ def parse_blocks(raw: object, n_vertices: int) -> np.ndarray:
     ...
     blockmesh.errors.DomainFormatError: block 0 is [0, 1, 2, 3]: a block is a pentagon, 5 vertex ids
     """
-    if isinstance(raw, np.ndarray):
+    if (
+        isinstance(raw, np.ndarray)
+        and np.issubdtype(raw.dtype, np.integer)
+        and raw.ndim == 2
+        and raw.shape[1] == 5
+        and raw.shape[0] > 0
+    ):
+        ids = raw.astype(np.int64)
+        ordered = np.sort(ids, axis=1)
+        if (
+            ids.min() >= 0
+            and ids.max() < n_vertices
+            and not np.any(ordered[:, 1:] == ordered[:, :-1])
+        ):
+            return ids
+        items = raw.tolist()
+    elif isinstance(raw, np.ndarray):
         items = raw.tolist()
     elif isinstance(raw, str | bytes) or not isinstance(raw, Iterable):
         raise DomainFormatError(
@@ -312,13 +535,14 @@ def parse_blocks(raw: object, n_vertices: int) -> np.ndarray:
             continue
         for v in block:
             if not isinstance(v, numbers.Integral) or isinstance(v, bool):
-                problems.append(f"block {i} has vertex id {v!r}, which is not a whole number")
-            elif not 0 <= v < n_vertices:
+                problems.append(f"block {i} has vertex id {_short(v)}, which is not a whole number")
+            elif not 0 <= int(v) < n_vertices:
                 problems.append(
-                    f"block {i} refers to vertex {v}, but the vertices are numbered "
+                    f"block {i} refers to vertex {_short(v)}, but the vertices are numbered "
                     f"0..{n_vertices - 1}"
                 )
-        if len(set(block)) != len(block) and all(isinstance(v, numbers.Integral) for v in block):
+        whole = all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in block)
+        if whole and len(set(block)) != len(block):
             twice = sorted({v for v in block if block.count(v) > 1})
             problems.append(
                 f"block {i} ({', '.join(map(str, block))}) uses vertex "
@@ -336,7 +560,8 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     """Check every block is a strictly convex pentagon; reverse clockwise ones when ``repair``.
 
     Returns the (possibly repaired) blocks as a new array. Also rejects vertices at the same
-    coordinates and vertices no block uses.
+    coordinates and vertices no block uses. Works in the domain's local frame, so the verdict does
+    not depend on where the domain sits. O(B) plus O(K log K) for the repeated points.
 
     Examples
     --------
@@ -357,7 +582,9 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             for a, b in same
         ],
     )
-    unused = np.setdiff1d(np.arange(vertices.shape[0]), blocks)
+    used = np.zeros(vertices.shape[0], dtype=bool)
+    used[blocks.ravel()] = True
+    unused = np.flatnonzero(~used)
     _raise(
         DomainError,
         [
@@ -366,13 +593,17 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             for v in unused
         ],
     )
-    xy = vertices[blocks]
-    scale = _scale(vertices)
+    local = local_frame(vertices).to_local(vertices)
+    xy = local[blocks]
     areas = signed_area(xy)
-    flat = np.flatnonzero(np.abs(areas) <= 1e-12 * scale**2)
+    extent = np.ptp(xy, axis=1).max(axis=1)
+    flat = np.flatnonzero(np.abs(areas) <= 1e-12 * extent**2)
     _raise(
         DomainError,
-        [f"{_block_label(blocks, b)} has zero area: its corners lie on one line" for b in flat],
+        [
+            f"{_block_label(blocks, int(b))} has zero area: its corners lie on one line"
+            for b in flat
+        ],
     )
     clockwise = np.flatnonzero(areas < 0)
     if clockwise.size:
@@ -380,13 +611,14 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             _raise(
                 DomainError,
                 [
-                    f"{_block_label(blocks, b)} runs clockwise; list its corners counter-clockwise"
+                    f"{_block_label(blocks, int(b))} runs clockwise; list its corners "
+                    "counter-clockwise"
                     for b in clockwise
                 ],
             )
         reversed_order = [0, 4, 3, 2, 1]
         blocks[clockwise] = blocks[clockwise][:, reversed_order]
-        xy = vertices[blocks]
+        xy = local[blocks]
         shown = "; ".join(
             f"block {b} is now {', '.join(map(str, blocks[b]))}" for b in clockwise[:4]
         )
@@ -398,31 +630,33 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
         )
     sines = corner_sines(xy)
     angles = interior_angles(xy)
+    straight = (np.abs(sines) <= COLLINEAR_SIN_TOL) & (angles > 90)
+    wrong = sines < -COLLINEAR_SIN_TOL
+    turning = np.sum(180.0 - angles, axis=1)
+    crossing = ~np.isclose(turning, 360.0, atol=1e-6)
     problems = []
-    for b in range(blocks.shape[0]):
-        label = _block_label(blocks, b)
+    for b in np.flatnonzero(np.any(straight | wrong, axis=1) | crossing).tolist():
+        label = _block_label(blocks, int(b))
         for k in range(5):
             v = blocks[b, k]
-            if abs(sines[b, k]) <= COLLINEAR_SIN_TOL and angles[b, k] > 90:
+            if straight[b, k]:
                 problems.append(
                     f"{label} is not strictly convex: the corner at vertex {v} "
                     f"{fmt_point(vertices[v])} is straight (180°); move vertex {v} off the line "
                     "through its neighbours, or use a block with that corner removed"
                 )
                 break
-            if sines[b, k] < -COLLINEAR_SIN_TOL:
+            if wrong[b, k]:
                 problems.append(
                     f"{label} is not convex: the corner at vertex {v} {fmt_point(vertices[v])} "
                     f"turns the wrong way ({angles[b, k]:.1f}°); split the block or move the vertex"
                 )
                 break
         else:
-            turning = float(np.sum(180.0 - angles[b]))
-            if not np.isclose(turning, 360.0, atol=1e-6):
-                problems.append(
-                    f"{label} crosses itself (its corners go around {turning / 360:.0f} times); "
-                    "list its corners in order around it"
-                )
+            problems.append(
+                f"{label} crosses itself (its corners go around {turning[b] / 360:.0f} times); "
+                "list its corners in order around it"
+            )
     _raise(DomainError, problems)
     return blocks
 
@@ -433,13 +667,24 @@ def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarr
 
     ``neighbour`` is :func:`blockmesh.topology.cell_neighbours` of the blocks (computed by the
     caller, which also rejects edges shared by three blocks). Raises TopologyError.
+
+    The test is topological first and geometric only where it must be, so that it does not depend
+    on where the domain sits or how thin its blocks are: counter-clockwise strictly convex blocks
+    that pair up along their edges tile a region exactly when their boundary edges meet only at
+    shared corners (else a hanging node or an overlap) and the corners around every inner vertex
+    add up to one full turn. Separate boundary loops closer than :data:`NEAR_TOL` times the
+    domain's size are reported as a gap. O(B log B), in the domain's local frame.
     """
-    polygons = shapely.polygons(vertices[blocks])
-    scale = _scale(vertices)
+    frame = local_frame(vertices)
+    local = frame.to_local(vertices)
     _check_same_direction(blocks, neighbour)
-    _check_overlaps(polygons)
-    _check_near_edges(vertices, blocks, scale)
+    slot = np.flatnonzero(np.asarray(neighbour).ravel() < 0)
+    start = blocks.ravel()[slot]
+    stop = np.roll(blocks, -1, axis=1).ravel()[slot]
+    _check_contacts(vertices, local, blocks, slot, start, stop, _same_point_tol(frame))
+    _check_gaps(vertices, local, slot, start, stop, frame)
     _check_connected(neighbour)
+    _check_full_turns(vertices, local, blocks, start, stop)
 
 
 def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
@@ -458,68 +703,132 @@ def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
     )
 
 
-def _check_overlaps(polygons: np.ndarray) -> None:
-    areas = shapely.area(polygons)
-    tree = shapely.STRtree(polygons)
-    first, second = tree.query(polygons, predicate="intersects")
-    pairs = first < second
-    first, second = first[pairs], second[pairs]
+def _contact_pairs(
+    local: np.ndarray, start: np.ndarray, stop: np.ndarray, distance: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pairs of boundary edges within ``distance`` that share no vertex; and the segments."""
+    segments = shapely.linestrings(np.stack([local[start], local[stop]], axis=1))
+    first, second = shapely.STRtree(segments).query(
+        segments, predicate="dwithin", distance=distance
+    )
+    apart = (
+        (first < second)
+        & (start[first] != start[second])
+        & (start[first] != stop[second])
+        & (stop[first] != start[second])
+        & (stop[first] != stop[second])
+    )
+    return first[apart], second[apart], segments
+
+
+def _check_contacts(
+    vertices: np.ndarray,
+    local: np.ndarray,
+    blocks: np.ndarray,
+    slot: np.ndarray,
+    start: np.ndarray,
+    stop: np.ndarray,
+    tol: float,
+) -> None:
+    """Boundary edges that touch or cross away from shared corners: hanging nodes and overlaps."""
+    first, second, segments = _contact_pairs(local, start, stop, tol)
     if first.size == 0:
         return
-    shared = shapely.intersection(polygons[first], polygons[second])
-    shared_area = shapely.area(shared)
-    overlapping = shared_area > 1e-9 * np.minimum(areas[first], areas[second])
+    points = shapely.points(local)
     problems = []
-    for a, b, piece, area in zip(
-        first[overlapping],
-        second[overlapping],
-        shared[overlapping],
-        shared_area[overlapping],
-        strict=True,
-    ):
-        where = shapely.get_coordinates(shapely.centroid(piece))[0]
+    seen: set[tuple[int, int, int]] = set()
+    seen_pairs: set[tuple[int, int]] = set()
+    for i, j in zip(first.tolist(), second.tolist(), strict=True):
+        hanging = None
+        for edge, other in ((i, j), (j, i)):
+            for v in (start[other], stop[other]):
+                if shapely.distance(points[v], segments[edge]) <= tol:
+                    hanging = (int(v), edge)
+        if hanging is not None:
+            v, edge = hanging
+            a, b, owner = int(start[edge]), int(stop[edge]), int(slot[edge]) // 5
+            key = (v, min(a, b), max(a, b))
+            if key in seen:
+                continue
+            seen.add(key)
+            problems.append(
+                f"vertex {v} {fmt_point(vertices[v])} lies on edge ({a}, {b}) of block {owner} "
+                f"without being one of its corners (a hanging node); blocks must meet edge to "
+                f"edge: split that edge at vertex {v} by giving block {owner} the corner {v}, or "
+                "move the vertex"
+            )
+            continue
+        x, y = sorted((int(slot[i]) // 5, int(slot[j]) // 5))
+        if (x, y) in seen_pairs:
+            continue
+        seen_pairs.add((x, y))
+        problems.append(_overlap_message(vertices, local, blocks, x, y))
+    _raise(TopologyError, problems)
+
+
+def _overlap_message(
+    vertices: np.ndarray, local: np.ndarray, blocks: np.ndarray, x: int, y: int
+) -> str:
+    frame = local_frame(vertices)
+    one, two = shapely.Polygon(local[blocks[x]]), shapely.Polygon(local[blocks[y]])
+    shared = shapely.intersection(one, two)
+    if shared.is_empty or shared.area == 0:
+        shared = shapely.intersection(one.boundary, two.boundary)
+    where = frame.to_global(shapely.get_coordinates(shapely.centroid(shared))[0])
+    area = shapely.area(shapely.intersection(one, two)) * frame.scale**2
+    return (
+        f"blocks {x} and {y} overlap (shared area {area:.3g} around {fmt_point(where)}); "
+        "blocks may touch only along whole edges"
+    )
+
+
+def _check_gaps(
+    vertices: np.ndarray,
+    local: np.ndarray,
+    slot: np.ndarray,
+    start: np.ndarray,
+    stop: np.ndarray,
+    frame: LocalFrame,
+) -> None:
+    """Separate boundary loops that come closer than NEAR_TOL: blocks that should share vertices."""
+    first, second, segments = _contact_pairs(local, start, stop, NEAR_TOL)
+    if first.size == 0:
+        return
+    loop = _loop_labels(start, stop, local.shape[0])
+    apart = loop[first] != loop[second]
+    problems = []
+    seen = set()
+    points = shapely.points(local)
+    for i, j in zip(first[apart].tolist(), second[apart].tolist(), strict=True):
+        best = None
+        for edge, other in ((i, j), (j, i)):
+            for v in (start[other], stop[other]):
+                d = float(shapely.distance(points[v], segments[edge]))
+                if best is None or d < best[0]:
+                    best = (d, int(v), edge)
+        assert best is not None
+        d, v, edge = best
+        a, b, owner = int(start[edge]), int(stop[edge]), int(slot[edge]) // 5
+        key = (v, min(a, b), max(a, b))
+        if d > NEAR_TOL or key in seen:
+            continue
+        seen.add(key)
         problems.append(
-            f"blocks {a} and {b} overlap (shared area {area:.3g} around {fmt_point(where)}); "
-            "blocks may touch only along whole edges"
+            f"vertex {v} {fmt_point(vertices[v])} is only {d * frame.scale:.3g} from edge "
+            f"({a}, {b}) of block {owner} (a gap or an overlap between blocks); blocks that meet "
+            "must share their vertices"
         )
     _raise(TopologyError, problems)
 
 
-def _check_near_edges(vertices: np.ndarray, blocks: np.ndarray, scale: float) -> None:
-    """Hanging nodes (a vertex inside another block's edge) and gaps (a vertex next to one)."""
-    start = blocks.ravel()
-    stop = np.roll(blocks, -1, axis=1).ravel()
-    segments = shapely.linestrings(np.stack([vertices[start], vertices[stop]], axis=1))
-    points = shapely.points(vertices)
-    tol = 1e-6 * scale
-    tree = shapely.STRtree(segments)
-    vertex, segment = tree.query(points, predicate="dwithin", distance=tol)
-    touching = (vertex != start[segment]) & (vertex != stop[segment])
-    vertex, segment = vertex[touching], segment[touching]
-    if vertex.size == 0:
-        return
-    distance = shapely.distance(points[vertex], segments[segment])
-    problems = []
-    seen = set()
-    for v, s, d in zip(vertex, segment, distance, strict=True):
-        a, b, owner = start[s], stop[s], s // 5
-        key = (int(v), min(a, b), max(a, b))
-        if key in seen:
-            continue
-        seen.add(key)
-        where = f"vertex {v} {fmt_point(vertices[v])}"
-        if d <= GAP_TOL * scale:
-            problems.append(
-                f"{where} lies on edge ({a}, {b}) of block {owner} without being one of its "
-                f"corners (a hanging node); blocks must meet edge to edge: split that edge at "
-                f"vertex {v} by giving block {owner} the corner {v}, or move the vertex"
-            )
-        else:
-            problems.append(
-                f"{where} is only {d:.3g} from edge ({a}, {b}) of block {owner} (a gap or an "
-                "overlap between blocks); blocks that meet must share their vertices"
-            )
-    _raise(TopologyError, problems)
+def _loop_labels(start: np.ndarray, stop: np.ndarray, n_points: int) -> np.ndarray:
+    """Which boundary loop (connected piece of the boundary graph) each boundary edge is on."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(start.size), (start, stop)), shape=(n_points, n_points))
+    _, label = connected_components(graph, directed=False)
+    return label[start]
 
 
 def _check_connected(neighbour: np.ndarray) -> None:
@@ -539,6 +848,37 @@ def _check_connected(neighbour: np.ndarray) -> None:
     )
 
 
+def _check_full_turns(
+    vertices: np.ndarray, local: np.ndarray, blocks: np.ndarray, start: np.ndarray, stop: np.ndarray
+) -> None:
+    """The corners around each vertex add up to one turn (inside) or to the boundary's angle."""
+    n = local.shape[0]
+    total = np.bincount(blocks.ravel(), weights=interior_angles(local[blocks]).ravel(), minlength=n)
+    passes = np.bincount(start, minlength=n)
+    expected = np.full(n, 360.0)
+    single = np.flatnonzero(passes == 1)
+    incoming = np.empty(n, dtype=np.int64)
+    incoming[stop] = start
+    outgoing = np.empty(n, dtype=np.int64)
+    outgoing[start] = stop
+    ahead = local[outgoing[single]] - local[single]
+    behind = local[incoming[single]] - local[single]
+    cross = ahead[:, 0] * behind[:, 1] - ahead[:, 1] * behind[:, 0]
+    dot = np.sum(ahead * behind, axis=1)
+    expected[single] = np.degrees(np.arctan2(cross, dot)) % 360.0
+    check = passes <= 1
+    off = np.flatnonzero(check & (np.abs(total - expected) > 1e-6 * 360))
+    _raise(
+        TopologyError,
+        [
+            f"the blocks around vertex {v} {fmt_point(vertices[v])} overlap: their corners there "
+            f"add up to {total[v]:.1f}° instead of {expected[v]:.1f}°; blocks may touch only "
+            "along whole edges"
+            for v in off.tolist()
+        ],
+    )
+
+
 # --------------------------------------------------------------------------- patches, regions
 def _check_name(name: object, what: str) -> str:
     if not isinstance(name, str) or not _NAME.match(name):
@@ -550,7 +890,7 @@ def _check_name(name: object, what: str) -> str:
 
 
 def resolve_patches(
-    boundary: np.ndarray, raw: Mapping[str, object] | None, edge_owner: Mapping[tuple, list]
+    boundary: np.ndarray, raw: Mapping[str, object] | None, blocks: np.ndarray
 ) -> tuple[tuple[str, ...], np.ndarray]:
     """Assign every boundary edge to one patch.
 
@@ -559,7 +899,8 @@ def resolve_patches(
     boundary : ndarray (Eb, 2)
         The boundary edges, oriented with the domain on their left.
     raw : mapping of name to a list of [a, b] vertex pairs, or None
-    edge_owner : mapping from a sorted vertex pair to the blocks using that edge
+    blocks : ndarray (B, 5)
+        The blocks (to name the owners of an edge that is not on the boundary).
 
     Returns
     -------
@@ -597,7 +938,7 @@ def resolve_patches(
             key = (int(pair[0]), int(pair[1]))
             k = index.get(key)
             if k is None:
-                owners = edge_owner.get(tuple(sorted(key)), [])
+                owners = _edge_owners(blocks, *key)
                 if owners:
                     problems.append(
                         f"patch {name!r} names edge {key}, which is not on the boundary: it is "
@@ -629,6 +970,13 @@ def resolve_patches(
     return tuple(names), patch
 
 
+def _edge_owners(blocks: np.ndarray, a: int, b: int) -> list[int]:
+    """The blocks having the edge ``(a, b)`` either way round. O(B)."""
+    ahead = np.roll(blocks, -1, axis=1)
+    hit = ((blocks == a) & (ahead == b)) | ((blocks == b) & (ahead == a))
+    return np.flatnonzero(np.any(hit, axis=1)).tolist()
+
+
 def resolve_regions(
     n_blocks: int, raw: Mapping[str, object] | None
 ) -> tuple[tuple[str, ...], np.ndarray]:
@@ -650,7 +998,7 @@ def resolve_regions(
         for b in ids:
             if not isinstance(b, numbers.Integral) or isinstance(b, bool):
                 raise DomainFormatError(f"region {name!r} has block id {b!r}, not a whole number")
-            if not 0 <= b < n_blocks:
+            if not 0 <= int(b) < n_blocks:
                 problems.append(
                     f"region {name!r} names block {b}, but the blocks are numbered "
                     f"0..{n_blocks - 1}"

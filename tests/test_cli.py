@@ -43,14 +43,15 @@ def test_check_certificate(capsys):
 
 def test_check_reports_located_errors(capsys, tmp_path):
     bad = tmp_path / "bad.toml"
-    bad.write_text("polygon = [[0, 0], [2, 0], [2, 2], [1, 1], [0, 2]]\n")
+    bad.write_text("polygon = [[0, 0], [2, 0], [0, 2], [2, 2]]\n")
     code, out, err = run(capsys, "check", str(bad))
     assert code == 1 and out == ""
-    assert "not convex: the corner at vertex 3 (1, 1)" in err and "Traceback" not in err
+    assert "edges 1 (2, 0)->(0, 2) and 3 (2, 2)->(0, 0) cross at (1, 1)" in err
+    assert "Traceback" not in err
     code, out, _ = run(capsys, "check", str(bad), "--json")
     report = json.loads(out)
     assert code == 1 and report["valid"] is False and report["error"] == "DomainError"
-    assert "vertex 3 (1, 1)" in report["problems"][0]
+    assert "cross at (1, 1)" in report["problems"][0]
 
 
 def test_check_polygon_option_and_warnings(capsys):

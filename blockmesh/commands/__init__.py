@@ -22,6 +22,7 @@ SUMMARIES = {
     "mesh": "refine domains into all-pentagon meshes; report, draw, export",
     "integrate": "integrate f(x, y) over a domain with a composite Gauss rule",
     "solve": "solve a Poisson or elasticity problem on the mesh (virtual elements)",
+    "convert": "convert a triangle/quadrilateral mesh into pentagonal blocks",
     "tables": "regenerate the paper's Tables 1-11 (both pentagons) with their errors",
 }
 

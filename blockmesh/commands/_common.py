@@ -36,18 +36,26 @@ __all__ = [
 
 
 def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False) -> None:
-    """Add ``DOMAIN`` (catalogue name or .toml file; several with ``many``) and ``--polygon``."""
+    """Add ``DOMAIN`` (catalogue name or file; several with ``many``), ``--polygon``, ``--hole``."""
     parser.add_argument(
         "domain",
         metavar="DOMAIN",
         nargs="*" if many else "?",
-        help="catalogue name (see 'blockmesh catalogue') or path to a .toml domain file"
+        help="catalogue name (see 'blockmesh catalogue'), a domain file (.toml, .wkt, .geojson) "
+        "or a mesh to convert (.msh, .vtu, ...)"
         + ("; several names, files or globs" if many else ""),
     )
     parser.add_argument(
         "--polygon",
         metavar='"x1,y1 x2,y2 ..."',
-        help="a convex polygon given inline instead of DOMAIN (decomposed automatically)",
+        help="a polygon (convex or not) given inline instead of DOMAIN (decomposed automatically)",
+    )
+    parser.add_argument(
+        "--hole",
+        metavar='"x1,y1 x2,y2 ..."',
+        action="append",
+        default=[],
+        help="a hole in the --polygon (repeat for more holes)",
     )
 
 
@@ -76,7 +84,11 @@ def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
     if args.polygon is not None and domain:
         raise BlockMeshError("give either DOMAIN or --polygon, not both")
     if args.polygon is not None:
-        return inline_polygon(args.polygon)
+        return inline_polygon(args.polygon, args.hole)
+    if args.hole:
+        raise BlockMeshError(
+            '--hole adds a hole to --polygon "x1,y1 x2,y2 ..."; give --polygon too'
+        )
     if not domain:
         raise BlockMeshError(
             'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
@@ -121,13 +133,19 @@ def load_target(name: str) -> Domain | Mesh:
         ) from None
 
 
-def inline_polygon(text: str) -> Domain:
-    """The domain of ``--polygon TEXT``; parse errors name the option."""
+def inline_polygon(text: str, holes: list[str] | None = None) -> Domain:
+    """The domain of ``--polygon TEXT`` with ``--hole`` texts; parse errors name the option."""
     try:
         corners = parse_polygon_string(text)
     except DomainFormatError as error:
         raise DomainFormatError(f"--{error}") from None
-    return Domain.from_polygon(corners, name="polygon")
+    rings = []
+    for k, hole in enumerate(holes or []):
+        try:
+            rings.append(parse_polygon_string(hole, what=f"hole {k}"))
+        except DomainFormatError as error:
+            raise DomainFormatError(f"--hole: {error}") from None
+    return Domain.from_polygon(corners, rings, name="polygon")
 
 
 #: The fields an output path may contain, e.g. ``out/{name}-{level}.vtu``.

@@ -21,7 +21,7 @@ from typing import Any
 from ..domain import Domain
 from ..errors import BlockMeshError, ResourceError
 from ..improve import QUALITY_RULES, refine_with_rule
-from ..io import SPLITS, format_for_path
+from ..io import SPLITS, check_options, format_for_path
 from ..memory import check_fits, mesh_command_predictor, process_rss
 from ..mesh import Mesh
 from ..refinement import NUMBERINGS, available_memory, format_bytes, refine
@@ -80,14 +80,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "-o",
         "--output",
         metavar="PATH",
-        help="write the mesh; the format follows the extension (.vtu .xdmf .msh .mat .npz, or a "
-        "directory with --format openfoam); with several domains use {name}, e.g. 'out/{name}.vtu'",
+        help="write the mesh; the format follows the extension (.vtu .vtk .xdmf .msh .mat .npz, "
+        "or a directory with --format openfoam); with several domains use {name}, e.g. "
+        "'out/{name}.vtu'",
     )
     parser.add_argument(
         "--format", metavar="FORMAT", help="output format, overriding the extension"
     )
     parser.add_argument(
-        "--split", choices=SPLITS, help="how .msh output splits pentagons (gmsh has no pentagons)"
+        "--split",
+        choices=SPLITS,
+        help="how .msh output splits pentagons (gmsh has no pentagons; default tri5)",
     )
     parser.add_argument(
         "--compression",
@@ -117,10 +120,8 @@ def _export_key(options: dict[str, Any], output: str | None):
     if not output:
         return None
     fmt = format_for_path(output, options["format"])
-    compression = options["compression"]
-    if compression is None and len(fmt.compressions) > 1:
-        compression = fmt.default_compression
-    return fmt.name, options["split"], compression
+    chosen = check_options(fmt, split=options["split"], compression=options["compression"])
+    return fmt.name, chosen.get("split"), chosen.get("compression", fmt.default_compression)
 
 
 def _check_memory(target: Domain | Mesh, options: dict[str, Any], output: str | None):
@@ -252,12 +253,9 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
     check_folders(args.output, args.plot, args.quality_plot)
     if args.output:
-        # Fail before meshing: an unknown format or a missing --split is known now.
+        # Fail before meshing: an unknown format or an option it does not take is known now.
         fmt = format_for_path(args.output, args.format)
-        if fmt.needs_split and args.split is None:
-            raise BlockMeshError(
-                f"{args.output}: gmsh .msh has no pentagons; choose --split tri5, tri3 or quad5"
-            )
+        check_options(fmt, split=args.split, compression=args.compression)
     return {
         "level": args.level,
         "numbering": args.numbering,
@@ -337,7 +335,7 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     if args.polygon is not None:
         if args.domain:
             raise BlockMeshError("give either DOMAIN or --polygon, not both")
-        target: Domain | Mesh = inline_polygon(args.polygon)
+        target: Domain | Mesh = inline_polygon(args.polygon, args.hole)
     else:
         if len(args.domain or []) != 1:
             raise BlockMeshError("--partitions meshes one domain at a time")
@@ -483,7 +481,15 @@ def run(args: argparse.Namespace) -> int:
         domains = _expand(args.domain)
     if len(domains) > 1:
         return _run_batch(domains, options, args)
-    target = inline_polygon(args.polygon) if args.polygon is not None else load_target(domains[0])
+    if args.hole and args.polygon is None:
+        raise BlockMeshError(
+            '--hole adds a hole to --polygon "x1,y1 x2,y2 ..."; give --polygon too'
+        )
+    target = (
+        inline_polygon(args.polygon, args.hole)
+        if args.polygon is not None
+        else load_target(domains[0])
+    )
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     report = _mesh_one(target, options, args.output, progress=progress)
     if args.json:

@@ -3,9 +3,10 @@
 =========== ===================== =========================================================
 name        extensions            what
 =========== ===================== =========================================================
-vtu         .vtu                  VTK (ParaView) via meshio: polygons + boundary lines
+vtu         .vtu                  VTK XML (ParaView) via meshio: polygons + boundary lines
+vtk         .vtk                  legacy VTK 5.1 (older tools) via meshio: the same
 xdmf        .xdmf .xmf (+ .h5)    XDMF 3 + HDF5 written with h5py (fastest for big meshes)
-msh         .msh                  Gmsh 4.1 ASCII, pentagons split (``split`` required)
+msh         .msh                  Gmsh 4.1 ASCII, pentagons split (``split``, default tri5)
 mat         .mat                  MATLAB v5 for PolyMesher / VEM codes (1-based)
 openfoam    a directory           OpenFOAM case or ``polyMesh``: one extruded layer
 npz         .npz                  NumPy archive of every array (lossless)
@@ -14,8 +15,14 @@ npz         .npz                  NumPy archive of every array (lossless)
 The format is taken from ``format=`` when given, else from the path: its extension, or
 ``openfoam`` for a path named ``polyMesh`` or an existing directory. Every writer is atomic (see
 :mod:`blockmesh.atomic`): output goes to a temporary name in the target directory and is
-renamed into place, so a failure or Ctrl-C never leaves a truncated file or destroys an old one.
-Every problem the user can fix raises :class:`~blockmesh.errors.ExportError`.
+committed by one rename, so a failure, Ctrl-C or kill never leaves a truncated file or a mixed
+pair and never destroys an old output. Every problem the user can fix, a full disk or a
+read-only folder included, raises :class:`~blockmesh.errors.ExportError`.
+
+Adding a format: write one module with ``write_<name>(mesh, path, **options) -> Path``, a
+reader and a :class:`Format` record ``FORMAT``, and add the module to ``_MODULES`` below; the
+extension lookup, the option checks, :func:`write`, :func:`read` and the tests parametrised over
+:data:`FORMATS` pick it up.
 
 Examples
 --------
@@ -27,11 +34,11 @@ Examples
 >>> sp = np.array([[-1, -1], [1, -1], [2, 0], [0, 1], [-2, 0.0]])
 >>> mesh = refine(Mesh.from_cells(sp, [[0, 1, 2, 3, 4]]), 2)
 >>> out = pathlib.Path(tempfile.mkdtemp())
->>> path = blockmesh.io.write(mesh, out / "sp.msh", split="tri5")
+>>> path = blockmesh.io.write(mesh, out / "sp.msh", split="quad5")
 >>> blockmesh.io.read(path).n_cells
 36
->>> sorted(blockmesh.io.FORMATS)
-['mat', 'msh', 'npz', 'openfoam', 'vtu', 'xdmf']
+>>> list(blockmesh.io.FORMATS)
+['vtu', 'vtk', 'xdmf', 'msh', 'mat', 'openfoam', 'npz']
 """
 
 from __future__ import annotations
@@ -40,9 +47,9 @@ import os
 from pathlib import Path
 from typing import Any
 
-from ..errors import ExportError
+from ..errors import BlockMeshError, ExportError
 from ..mesh import Mesh
-from . import mat, msh, npz, openfoam, vtu, xdmf
+from . import legacy_vtk, mat, msh, npz, openfoam, vtu, xdmf
 from ._common import Format, check_mesh
 from .split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
 
@@ -52,6 +59,7 @@ __all__ = [
     "Format",
     "SplitBoundary",
     "SplitCells",
+    "check_options",
     "format_for_path",
     "read",
     "split_boundary",
@@ -59,8 +67,11 @@ __all__ = [
     "write",
 ]
 
-#: The formats, by name (the ``--format`` names), in the order of the table above.
-FORMATS: dict[str, Format] = {m.FORMAT.name: m.FORMAT for m in (vtu, xdmf, msh, mat, openfoam, npz)}
+#: The format modules, in the order of the table above: each defines ``FORMAT``.
+_MODULES = (vtu, legacy_vtk, xdmf, msh, mat, openfoam, npz)
+
+#: The formats, by name (the ``format=`` names), in the order of the table above.
+FORMATS: dict[str, Format] = {m.FORMAT.name: m.FORMAT for m in _MODULES}
 
 _BY_EXTENSION: dict[str, Format] = {ext: fmt for fmt in FORMATS.values() for ext in fmt.extensions}
 
@@ -94,6 +105,7 @@ def format_for_path(path: str | os.PathLike[str], format: str | None = None) -> 
     ...
     blockmesh.errors.ExportError: cannot tell the format of 'mesh.stl' from its extension '.stl'...
     """
+    names = "|".join(FORMATS)
     if format is not None:
         key = str(format).lower()
         if key in FORMATS:
@@ -102,8 +114,7 @@ def format_for_path(path: str | os.PathLike[str], format: str | None = None) -> 
         if ext in _BY_EXTENSION:
             return _BY_EXTENSION[ext]
         raise ExportError(
-            f"unknown format {format!r}; choose --format {'|'.join(FORMATS)}. "
-            f"Supported: {_supported()}"
+            f"unknown format {format!r}; format= takes {names}. Supported: {_supported()}"
         )
     p = Path(path)
     suffix = p.suffix.lower()
@@ -114,17 +125,63 @@ def format_for_path(path: str | os.PathLike[str], format: str | None = None) -> 
     what = f"its extension {suffix!r}" if suffix else "it (no extension)"
     raise ExportError(
         f"cannot tell the format of {str(path)!r} from {what}. Supported: {_supported()}. "
-        f"Or pass format= (--format {'|'.join(FORMATS)})"
+        f"Or give format= ({names})"
     )
 
 
-def _check_option(
-    value: str | None, choices: tuple[str, ...] | dict, what: str, fmt: Format
-) -> None:
-    if value not in choices:
+def check_options(
+    fmt: Format, *, split: str | None = None, compression: str | None = None, **options: Any
+) -> dict[str, Any]:
+    """The keyword options for ``fmt``'s writer, with the defaults filled in.
+
+    Every option a format does not take is an error naming the options it does take (see
+    :meth:`Format.describe_options`). ``compression="none"`` is accepted by every format.
+
+    Examples
+    --------
+    >>> check_options(FORMATS["msh"])
+    {'split': 'tri5'}
+    >>> check_options(FORMATS["msh"], split="tri3", compression="lzma")
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ExportError: msh takes no compression (got compression=...); its options: ...
+    """
+    kwargs: dict[str, Any] = {}
+    accepted = f"its options: {fmt.describe_options()}"
+    if fmt.splits:
+        chosen = fmt.default_split if split is None else split
+        if chosen not in fmt.splits:
+            choices = "; ".join(f"{k}: {SPLITS[k]}" for k in fmt.splits)
+            raise ExportError(
+                f"split {split!r} is not available for {fmt.name}; choose one of "
+                f"{', '.join(fmt.splits)} ({choices})"
+            )
+        kwargs["split"] = chosen
+    elif split is not None:
+        splitting = ", ".join(f.name for f in FORMATS.values() if f.splits)
         raise ExportError(
-            f"{what} {value!r} is not available for {fmt.name}; choose one of {', '.join(choices)}"
+            f"split={split!r} applies to {splitting} only; {fmt.name} keeps the pentagons "
+            f"({accepted})"
         )
+    if len(fmt.compressions) > 1:
+        chosen = fmt.default_compression if compression is None else compression
+        if chosen not in fmt.compressions:
+            raise ExportError(
+                f"compression {compression!r} is not available for {fmt.name}; choose one of "
+                f"{', '.join(fmt.compressions)}"
+            )
+        kwargs["compression"] = chosen
+    elif compression not in (None, "none"):
+        raise ExportError(
+            f"{fmt.name} takes no compression (got compression={compression!r}); {accepted}"
+        )
+    unknown = sorted(set(options) - set(fmt.options))
+    if unknown:
+        raise ExportError(
+            f"option {', '.join(unknown)} is not known to the {fmt.name} writer ({accepted})"
+        )
+    kwargs.update(options)
+    return kwargs
 
 
 def write(
@@ -146,7 +203,8 @@ def write(
     format : str, optional
         A name of :data:`FORMATS`; default from the path (see :func:`format_for_path`).
     split : {"tri5", "tri3", "quad5"}, optional
-        How to split the pentagons; required by ``msh`` and refused by the other formats.
+        How to split the pentagons, for the formats without pentagons (``msh``: default
+        ``tri5``); refused by the other formats.
     compression : str, optional
         ``"none"``, ``"zlib"`` or ``"lzma"`` as the format allows (``Format.compressions``);
         default the format's own: ``zlib`` for VTU, ``none`` for the others.
@@ -156,8 +214,11 @@ def write(
     Raises
     ------
     ExportError
-        Unknown format or extension, missing or unneeded ``split``, an unsupported compression or
-        option, a missing parent directory, or a mesh the format cannot hold.
+        Unknown format or extension, an option the format does not take, a missing parent
+        directory, an operating-system failure (full disk, read-only or forbidden folder), a
+        mesh that fails its final check (:meth:`Mesh.check_geometry`: every cell strictly convex
+        and counter-clockwise) or one the format cannot hold. The old output, if any, is then
+        left as it was.
 
     Examples
     --------
@@ -166,39 +227,18 @@ def write(
     >>> from blockmesh.mesh import Mesh
     >>> sp = np.array([[-1, -1], [1, -1], [2, 0], [0, 1], [-2, 0.0]])
     >>> mesh = Mesh.from_cells(sp, [[0, 1, 2, 3, 4]])
-    >>> write(mesh, pathlib.Path(tempfile.mkdtemp()) / "sp.msh")
+    >>> write(mesh, pathlib.Path(tempfile.mkdtemp()) / "sp.mat", dz=1.0)
     Traceback (most recent call last):
     ...
-    blockmesh.errors.ExportError: Gmsh .msh has no pentagons: ... --split tri5|tri3|quad5 ...
+    blockmesh.errors.ExportError: option dz is not known to the mat writer (its options: ...
     """
     fmt = format_for_path(path, format)
     mesh = check_mesh(mesh)
-    kwargs: dict[str, Any] = {}
-    if fmt.needs_split:
-        if split is None:
-            choices = "; ".join(f"{k}: {v}" for k, v in SPLITS.items())
-            raise ExportError(
-                "Gmsh .msh has no pentagons: choose how to split them with "
-                f"--split tri5|tri3|quad5 ({choices})"
-            )
-        _check_option(split, SPLITS, "split", fmt)
-        kwargs["split"] = split
-    elif split is not None:
-        raise ExportError(
-            f"split={split!r} applies to msh only; {fmt.name} keeps the pentagons (drop --split)"
-        )
-    if compression is not None and compression not in fmt.compressions:
-        _check_option(compression, fmt.compressions, "compression", fmt)
-    if len(fmt.compressions) > 1:
-        kwargs["compression"] = compression or fmt.default_compression
-    unknown = sorted(set(options) - set(fmt.options))
-    if unknown:
-        accepted = ", ".join(fmt.options) or "none"
-        raise ExportError(
-            f"option {', '.join(unknown)} is not known to the {fmt.name} writer "
-            f"(its options: {accepted})"
-        )
-    kwargs.update(options)
+    kwargs = check_options(fmt, split=split, compression=compression, **options)
+    try:
+        mesh.check_geometry()  # the final guard: never write a broken mesh
+    except BlockMeshError as error:
+        raise ExportError(f"cannot write {path}: {error}") from error
     return fmt.writer(mesh, Path(path), **kwargs)
 
 
@@ -208,7 +248,8 @@ def read(path: str | os.PathLike[str], *, format: str | None = None) -> Mesh:
     Raises
     ------
     ExportError
-        Unknown format, a missing path, or a file that does not hold a pentagon mesh.
+        Unknown format, a missing path, or a file that does not hold a pentagon mesh (or, for
+        the formats of several files, files that do not belong together).
 
     Examples
     --------

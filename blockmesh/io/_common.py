@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ExportError
+from ..errors import BlockMeshError, ExportError
 from ..mesh import Mesh
 from ..topology import boundary_of_cells
 
@@ -31,6 +31,7 @@ __all__ = [
     "decode_metadata",
     "encode_metadata",
     "mesh_from_arrays",
+    "name_lookup",
 ]
 
 #: Version of the JSON metadata block (names, level) the formats carry.
@@ -49,10 +50,15 @@ class Format:
         One line for listings.
     extensions : tuple of str
         File name endings (lower case, with the dot) that select this format.
-    can_read : bool
-        Whether :func:`blockmesh.io.read` reads it back.
-    needs_split : bool
-        Whether the format has no pentagons, so ``split`` must be given.
+    writer : callable
+        ``writer(mesh, path, **options) -> Path``, the path written; it writes atomically
+        (:mod:`blockmesh.atomic`).
+    reader : callable or None
+        ``reader(path) -> Mesh``.
+    splits : tuple of str
+        For a format without pentagons, the ways of splitting them it takes (names of
+        :data:`blockmesh.io.SPLITS`), the first being the default; empty when the format keeps
+        the pentagons.
     compressions : tuple of str
         Accepted ``compression`` values; the first is the default.
     directory : bool
@@ -66,7 +72,7 @@ class Format:
     extensions: tuple[str, ...]
     writer: Callable[..., Path] = field(repr=False)
     reader: Callable[[Path], Mesh] | None = field(default=None, repr=False)
-    needs_split: bool = False
+    splits: tuple[str, ...] = ()
     compressions: tuple[str, ...] = ("none",)
     directory: bool = False
     options: tuple[str, ...] = ()
@@ -77,9 +83,40 @@ class Format:
         return self.reader is not None
 
     @property
+    def needs_split(self) -> bool:
+        """Whether the format has no pentagons, so they are split (``splits``)."""
+        return bool(self.splits)
+
+    @property
+    def default_split(self) -> str | None:
+        """The split used when none is asked for (None for formats that keep pentagons)."""
+        return self.splits[0] if self.splits else None
+
+    @property
     def default_compression(self) -> str:
         """The compression used when none is asked for."""
         return self.compressions[0]
+
+    def describe_options(self) -> str:
+        """The options this format's writer takes, with their values, for messages.
+
+        Examples
+        --------
+        >>> import blockmesh.io
+        >>> blockmesh.io.FORMATS["msh"].describe_options()
+        'split=tri5|tri3|quad5 (default tri5)'
+        >>> blockmesh.io.FORMATS["npz"].describe_options()
+        'compression=none|zlib (default none)'
+        """
+        parts = []
+        if self.splits:
+            parts.append(f"split={'|'.join(self.splits)} (default {self.default_split})")
+        if len(self.compressions) > 1:
+            parts.append(
+                f"compression={'|'.join(self.compressions)} (default {self.default_compression})"
+            )
+        parts += [f"{name}=..." for name in self.options]
+        return ", ".join(parts) or "no options"
 
 
 def check_mesh(mesh: Any) -> Mesh:
@@ -93,8 +130,8 @@ def check_mesh(mesh: Any) -> Mesh:
     return mesh
 
 
-def encode_metadata(mesh: Mesh) -> str:
-    """The names and level of a mesh as a JSON string (what the arrays cannot carry)."""
+def encode_metadata(mesh: Mesh, **extra: Any) -> str:
+    """The names and level of a mesh (what the arrays cannot carry), plus ``extra``, as JSON."""
     return json.dumps(
         {
             "blockmesh_io": METADATA_VERSION,
@@ -102,18 +139,24 @@ def encode_metadata(mesh: Mesh) -> str:
             "level": int(mesh.level),
             "patch_names": list(mesh.patch_names),
             "region_names": list(mesh.region_names),
+            **extra,
         },
         ensure_ascii=False,
         separators=(",", ":"),
     )
 
 
-def decode_metadata(text: str | bytes | None, where: str = "the file") -> dict[str, Any]:
+def decode_metadata(
+    text: str | bytes | np.ndarray | None, where: str = "the file"
+) -> dict[str, Any]:
     """The dictionary of :func:`encode_metadata` (``{}`` for ``None``); ExportError if broken."""
     if text is None:
         return {}
     if isinstance(text, bytes | bytearray | np.ndarray):
-        text = bytes(text).decode("utf-8")
+        try:
+            text = bytes(text).decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise ExportError(f"the blockmesh metadata in {where} is not UTF-8: {exc}") from None
     try:
         meta = json.loads(text)
     except ValueError as exc:
@@ -123,13 +166,42 @@ def decode_metadata(text: str | bytes | None, where: str = "the file") -> dict[s
     return meta
 
 
+def name_lookup(kind: str, names: tuple[str, ...] | list[str]) -> dict[str, int]:
+    """``{"KIND:NAME": index}`` for each name: the lookup tables shown in ParaView.
+
+    VTK and XDMF files carry the patch and region names this way, as one-value integer arrays of
+    field data named ``patch:NAME`` and ``region:NAME`` whose value is the index used by the
+    ``patch`` and ``region`` cell arrays (ParaView lists them in its Information panel).
+
+    Examples
+    --------
+    >>> name_lookup("patch", ["outer wall", "inlet"])
+    {'patch:outer wall': 0, 'patch:inlet': 1}
+    """
+    return {f"{kind}:{name}": k for k, name in enumerate(names)}
+
+
 def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:
     arr = np.asarray(values).reshape(-1)
     if arr.shape[0] != n:
         raise ExportError(f"{where}: {what} has {arr.shape[0]} entries, expected {n}")
     if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
         raise ExportError(f"{where}: {what} holds non-finite values")
-    return arr.astype(np.int64)
+    if arr.dtype.kind not in "iuf":
+        raise ExportError(f"{where}: {what} holds {arr.dtype} values, not integers")
+    return arr.astype(np.int64, copy=False)
+
+
+def _read_only(arr: np.ndarray) -> np.ndarray:
+    """``arr`` made read-only: the Mesh takes it over without copying.
+
+    Copied when it is a view of a larger buffer (which it would otherwise keep alive).
+    """
+    base = arr.base
+    if not arr.flags.c_contiguous or (base is not None and getattr(base, "nbytes", 0) > arr.nbytes):
+        arr = np.array(arr, order="C")
+    arr.setflags(write=False)
+    return arr
 
 
 def mesh_from_arrays(
@@ -151,19 +223,20 @@ def mesh_from_arrays(
 
     Missing block ids become 0 for every cell; a missing parent -1; a missing region the single
     region ``"domain"``; missing boundary edges are found from the cells and put in one patch
-    ``"boundary"``. Shapes and index ranges are checked; ``where`` names the file in the
-    :class:`ExportError` raised when they are wrong.
+    ``"boundary"``. Shapes, index ranges and the mesh itself (orientation, boundary) are checked;
+    ``where`` names the file in the :class:`ExportError` raised when they are wrong. The arrays
+    are taken over (made read-only), not copied.
     """
-    points = np.asarray(points, dtype=np.float64)
-    if points.ndim != 2 or points.shape[1] < 2:
+    points = np.asarray(points)
+    if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
         raise ExportError(f"{where}: the points have shape {points.shape}, expected (N, 2)")
-    points = np.ascontiguousarray(points[:, :2])
+    points = np.ascontiguousarray(points[:, :2], dtype=np.float64)
     cells = np.asarray(cells)
     if cells.ndim != 2 or cells.shape[1] != 5:
         raise ExportError(
             f"{where}: the cells have shape {cells.shape}; blockmesh reads pentagons only (M, 5)"
         )
-    cells = cells.astype(np.int64)
+    cells = _index_array(cells, cells.size, "cells", where).reshape(-1, 5)
     n, m = points.shape[0], cells.shape[0]
     if cells.size and (cells.min() < 0 or cells.max() >= n):
         raise ExportError(
@@ -191,8 +264,9 @@ def mesh_from_arrays(
         boundary_edges = boundary_of_cells(cells, n)
         boundary_patch = np.zeros(boundary_edges.shape[0], dtype=np.int64)
         patch_names = patch_names or ("boundary",)
-    boundary_edges = np.asarray(boundary_edges).astype(np.int64).reshape(-1, 2)
+    boundary_edges = np.asarray(boundary_edges).reshape(-1, 2)
     eb = boundary_edges.shape[0]
+    boundary_edges = _index_array(boundary_edges, 2 * eb, "boundary edges", where).reshape(-1, 2)
     if boundary_patch is None:
         boundary_patch = np.zeros(eb, dtype=np.int64)
     boundary_patch = _index_array(boundary_patch, eb, "boundary_patch", where)
@@ -207,16 +281,19 @@ def mesh_from_arrays(
         )
     if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
-    return Mesh(
-        points=points,
-        cells=cells,
-        block_id=block_id,
-        parent=parent,
-        boundary_edges=boundary_edges,
-        boundary_patch=boundary_patch,
-        patch_names=tuple(str(p) for p in patch_names),
-        region=region,
-        region_names=tuple(str(r) for r in region_names),
-        level=int(level),
-        name=str(name),
-    )
+    try:
+        return Mesh(
+            points=_read_only(points),
+            cells=_read_only(cells),
+            block_id=_read_only(block_id),
+            parent=_read_only(parent),
+            boundary_edges=_read_only(boundary_edges),
+            boundary_patch=_read_only(boundary_patch),
+            patch_names=tuple(str(p) for p in patch_names),
+            region=_read_only(region),
+            region_names=tuple(str(r) for r in region_names),
+            level=int(level),
+            name=str(name),
+        )
+    except (BlockMeshError, TypeError, ValueError) as error:
+        raise ExportError(f"{where} does not hold a valid mesh: {error}") from None

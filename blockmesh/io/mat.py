@@ -41,9 +41,10 @@ Examples
 
 from __future__ import annotations
 
-import re
 import zlib
+from collections.abc import Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
@@ -51,6 +52,8 @@ from ..atomic import atomic_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, mesh_from_arrays
+from .mat_check import check_mat
+from .names import MATLAB_NAME
 
 __all__ = ["FORMAT", "matlab_name", "read_mat", "write_mat"]
 
@@ -59,39 +62,32 @@ _MX_CELL, _MX_DOUBLE = 1, 6
 
 
 def matlab_name(name: str) -> str:
-    """``name`` made a valid MATLAB identifier (at most 63 characters).
+    """``name`` made a valid MATLAB identifier (at most 63 characters; see :data:`MATLAB_NAME`).
 
     Examples
     --------
     >>> matlab_name("outer wall"), matlab_name("2nd"), matlab_name("inlet")
     ('outer_wall', 'p_2nd', 'inlet')
     """
-    clean = re.sub(r"\W", "_", name, flags=re.ASCII)
-    if not clean or not clean[0].isalpha():
-        clean = "p_" + clean
-    return clean[:63]
+    return MATLAB_NAME.clean(name)
 
 
-def _struct_names(names: tuple[str, ...]) -> list[str]:
-    out: list[str] = []
-    for name in names:
-        base = candidate = matlab_name(name)
-        k = 1
-        while candidate in out:
-            k += 1
-            candidate = f"{base[:58]}_{k}"
-        out.append(candidate)
-    return out
+def _record(k: int) -> np.dtype:
+    """One element of the cell array: tag, flags, dims (1, k), empty name, real part (k doubles)."""
+    return np.dtype([("head", "<u4", (14,)), ("data", "<f8", (k,))])
+
+
+def _record_head(k: int) -> list[int]:
+    return [_MI_MATRIX, 48 + 8 * k, _MI_UINT32, 8, _MX_DOUBLE, 0,
+            _MI_INT32, 8, 1, k, _MI_INT8, 0, _MI_DOUBLE, 8 * k]  # fmt: skip
 
 
 def _cell_array_bytes(name: str, rows: np.ndarray) -> bytes:
     """A MAT v5 ``miMATRIX`` element: an M x 1 cell array of 1 x k double rows. O(M k)."""
     m, k = rows.shape
     # each cell: tag, flags, dims (1, k), empty name, real part (k doubles)
-    record = np.dtype([("head", "<u4", (14,)), ("data", "<f8", (k,))])
-    cells = np.empty(m, dtype=record)
-    cells["head"] = [_MI_MATRIX, 48 + 8 * k, _MI_UINT32, 8, _MX_DOUBLE, 0,
-                     _MI_INT32, 8, 1, k, _MI_INT8, 0, _MI_DOUBLE, 8 * k]  # fmt: skip
+    cells = np.empty(m, dtype=_record(k))
+    cells["head"] = _record_head(k)
     cells["data"] = rows
     body = cells.tobytes()
     raw = name.encode("ascii")
@@ -111,7 +107,7 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
     """Write ``mesh`` to ``path`` (atomically) as a MATLAB v5 file; returns the path. O(N + M)."""
     import scipy.io
 
-    fields = _struct_names(mesh.patch_names)
+    fields = MATLAB_NAME.unique(mesh.patch_names)
     nodes, edges = {}, {}
     for k, field in enumerate(fields):
         e = mesh.boundary_edges[mesh.boundary_patch == k] + 1.0
@@ -141,8 +137,131 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
     return Path(path).absolute()
 
 
+#: The variables :func:`write_mat` writes.
+_VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "Region", "Parent",
+              "PatchNames", "RegionNames", "Level", "Name")  # fmt: skip
+
+
+def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> Iterator[bytes]:
+    """The ``size`` bytes of a data element from ``f``, decompressed if need be, in pieces."""
+    unpack = zlib.decompressobj() if compressed else None
+    left = size
+    while left:
+        piece = f.read(min(step, left))
+        if not piece:
+            return
+        left -= len(piece)
+        if unpack is None:
+            yield piece
+        else:
+            while piece:
+                yield unpack.decompress(piece, step)
+                piece = unpack.unconsumed_tail
+    if unpack is not None:
+        yield unpack.flush()
+
+
+class _Bytes:
+    """Exactly ``n`` bytes at a time from a stream of pieces."""
+
+    def __init__(self, pieces: Iterator[bytes]) -> None:
+        self.pieces, self.buf = pieces, bytearray()
+
+    def take(self, n: int) -> bytes | None:
+        while len(self.buf) < n:
+            piece = next(self.pieces, None)
+            if piece is None:
+                return None
+            self.buf += piece
+        out = bytes(self.buf[:n])
+        del self.buf[:n]
+        return out
+
+
+def _element_cells(path: Path) -> np.ndarray | None:
+    """``Element`` as (M, 5) 0-based node ids when it has the layout :func:`write_mat` writes.
+
+    The variables are scanned by their tags (the others are skipped, not read); the records of
+    the cell array are then read in chunks straight into the result, O(M) time and no more
+    memory than the result. None for any other layout (e.g. saved by MATLAB), which
+    :func:`scipy.io.loadmat` then reads.
+    """
+    with open(path, "rb") as f:
+        header = f.read(128)
+        if len(header) < 128 or header[126:128] != b"IM":
+            return None  # not little-endian v5
+        while True:
+            tag = f.read(8)
+            if len(tag) < 8:
+                return None
+            kind, size = (int(v) for v in np.frombuffer(tag, dtype="<u4"))
+            start = f.tell()
+            if kind in (_MI_COMPRESSED, _MI_MATRIX):
+                stream = _Bytes(_chunks(f, size, kind == _MI_COMPRESSED))
+                inner = kind
+                if kind == _MI_COMPRESSED:
+                    raw = stream.take(8)
+                    inner = int(np.frombuffer(raw, dtype="<u4")[0]) if raw else 0
+                head = stream.take(48) if inner == _MI_MATRIX else None
+                if head is not None and _name(head) == b"Element":
+                    return _records(stream, head)
+            f.seek(start + size + (-size % 8 if kind == _MI_MATRIX else 0))  # none after zlib
+
+
+def _name(head: bytes) -> bytes | None:
+    """The variable name in the first 48 bytes of a miMATRIX body (None if unusual)."""
+    words = np.frombuffer(head[:40], dtype="<u4")
+    if words[0] != _MI_UINT32 or words[4] != _MI_INT32 or words[5] != 8 or words[8] != _MI_INT8:
+        return None
+    length = int(words[9])
+    return head[40 : 40 + length] if length <= 8 else None
+
+
+def _records(stream: _Bytes, head: bytes, chunk: int = 1 << 16) -> np.ndarray | None:
+    """The cells of a cell array of M records of 1 x 5 doubles (None if it is not that)."""
+    flags = np.frombuffer(head[:40], dtype="<u4")
+    m, cols = int(flags[6]), int(flags[7])
+    if (int(flags[2]) & 0xFF) != _MX_CELL or cols != 1:
+        return None
+    record, expected = _record(5), np.array(_record_head(5), dtype="<u4")
+    cells = np.empty((m, 5), dtype=np.int64)
+    for at in range(0, m, chunk):
+        n = min(chunk, m - at)
+        raw = stream.take(n * record.itemsize)
+        if raw is None:
+            return None
+        part = np.frombuffer(raw, dtype=record)
+        rows = part["data"]
+        if not np.all(part["head"] == expected) or not np.all(rows == np.floor(rows)):
+            return None
+        cells[at : at + n] = rows
+    cells -= 1
+    return cells
+
+
 def _strings(value: np.ndarray) -> list[str]:
     return [str(np.asarray(v).ravel()[0]) if np.asarray(v).size else "" for v in value.ravel()]
+
+
+def _cells(element: np.ndarray, where: str) -> np.ndarray:
+    """0-based (M, 5) node ids from ``Element`` as scipy read it (a cell array or a matrix)."""
+    if element.dtype == object:
+        try:
+            rows = np.vstack(list(element.ravel())).astype(np.float64) if element.size else element
+        except ValueError:
+            rows = np.empty((0, 0))
+        if element.size and rows.shape != (element.size, 5):
+            raise ExportError(
+                f"{where}: some elements are not rows of 5 node ids; blockmesh reads pentagons"
+            )
+        rows = np.asarray(rows, dtype=np.float64).reshape(-1, 5)
+    else:
+        rows = np.asarray(element, dtype=np.float64).reshape(-1, 5)
+    if not np.all(np.isfinite(rows)) or np.any(rows != np.floor(rows)):
+        raise ExportError(f"{where}: Element holds node ids that are not whole numbers")
+    cells = rows.astype(np.int64)
+    cells -= 1
+    return cells
 
 
 def read_mat(path: Path) -> Mesh:
@@ -155,25 +274,18 @@ def read_mat(path: Path) -> Mesh:
 
     where = str(path)
     try:
-        data = scipy.io.loadmat(path, squeeze_me=False)
+        fast = _element_cells(Path(path))
+        check_mat(Path(path), skip=("Element",) if fast is not None else ())
+        wanted = None if fast is None else [v for v in _VARIABLES if v != "Element"]
+        data = scipy.io.loadmat(path, squeeze_me=False, variable_names=wanted)
+    except ExportError:
+        raise
     except Exception as exc:  # scipy raises several kinds for broken files
         raise ExportError(f"cannot read {where} as a MATLAB file: {exc}") from None
-    if "Node" not in data or "Element" not in data:
+    if "Node" not in data or (fast is None and "Element" not in data):
         raise ExportError(f"{where} has no Node and Element variables (PolyMesher layout)")
-    element = data["Element"]
-    if element.dtype == object:
-        try:
-            cells = np.vstack(element.ravel()).astype(np.float64) if element.size else element
-        except ValueError:
-            cells = np.empty((0, 0))
-        if element.size and cells.shape != (element.size, 5):
-            raise ExportError(
-                f"{where}: some elements are not rows of 5 node ids; blockmesh reads pentagons"
-            )
-        cells = np.asarray(cells, dtype=np.float64).reshape(-1, 5)
-    else:
-        cells = np.asarray(element, dtype=np.float64).reshape(-1, 5)
-    cells = cells.astype(np.int64) - 1
+    cells = _cells(data.pop("Element"), where) if fast is None else fast
+    del fast
 
     def column(name: str, shift: int) -> np.ndarray | None:
         return None if name not in data else np.asarray(data[name]).ravel().astype(np.int64) - shift

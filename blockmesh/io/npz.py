@@ -22,7 +22,6 @@ Examples
 
 from __future__ import annotations
 
-import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +63,9 @@ def read_npz(path: Path) -> Mesh:
                     "(write it with blockmesh.io.write)"
                 )
             arrays = {k: data[k] for k in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile) as exc:
+    except ExportError:
+        raise
+    except Exception as exc:  # zipfile and numpy raise many kinds for damaged archives
         raise ExportError(f"cannot read {where} as .npz: {exc}") from None
     return mesh_from_arrays(
         arrays["points"],

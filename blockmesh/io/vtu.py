@@ -12,9 +12,13 @@ parent      the cell's parent (level-1) -1
 patch       -1                          index into the patch names
 =========== =========================== ========================
 
-The names (patches, regions), the level and the mesh name are a JSON object stored as VTK
-*field data*: a ``UInt8`` array ``blockmesh`` holding its UTF-8 bytes (meshio does not write field
-data, so it is added to the XML after meshio has written the file; meshio and VTK read it back).
+Names, for ParaView and for blockmesh. The *field data* holds one integer array per patch and per
+region, named ``patch:NAME`` and ``region:NAME``, whose value is the index the ``patch`` and
+``region`` arrays use (ParaView lists them in its Information panel: ``patch:inlet  [1, 1]``).
+Text arrays would show better, but meshio cannot read them. The names, the level and the mesh
+name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its UTF-8 bytes), which
+blockmesh reads back. meshio does not write field data, so it is added to the XML after meshio
+has written the file; meshio and VTK read it back.
 
 Compression: ``"zlib"`` (the default: ParaView reads it everywhere, about 3x smaller for little
 time), ``"lzma"`` (smaller still, several times slower), ``"none"`` (raw base64, fastest).
@@ -38,30 +42,65 @@ from __future__ import annotations
 import shutil
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+if TYPE_CHECKING:
+    import meshio
+
 from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
-from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays
+from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
 
-__all__ = ["FORMAT", "read_vtu", "write_vtu"]
+__all__ = [
+    "FORMAT",
+    "field_data",
+    "mesh_from_meshio",
+    "meshio_arrays",
+    "meshio_mesh",
+    "read_vtu",
+    "write_vtu",
+]
 
 _FIELD = "blockmesh"
 
 
-def _field_data_xml(meta: str) -> bytes:
-    data = np.frombuffer(meta.encode("utf-8"), dtype=np.uint8)
-    values = " ".join(map(str, data.tolist()))
-    return (
-        f'<FieldData>\n<DataArray type="UInt8" Name={quoteattr(_FIELD)} '
-        f'NumberOfTuples="{data.size}" format="ascii">\n{values}\n</DataArray>\n</FieldData>\n'
-    ).encode()
+def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
+    """The field data of a VTK file of ``mesh``: the name lookups and the JSON metadata.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from blockmesh.mesh import Mesh
+    >>> sp = np.array([[-1, -1], [1, -1], [2, 0], [0, 1], [-2, 0.0]])
+    >>> sorted(field_data(Mesh.from_cells(sp, [[0, 1, 2, 3, 4]])))
+    ['blockmesh', 'patch:boundary', 'region:domain']
+    """
+    data = {
+        name: np.array([index], dtype=np.int64)
+        for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names))
+        for name, index in name_lookup(kind, names).items()
+    }
+    data[_FIELD] = np.frombuffer(encode_metadata(mesh).encode("utf-8"), dtype=np.uint8)
+    return data
 
 
-def _insert_field_data(src: Path, dst: Path, meta: str) -> None:
+def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
+    arrays = []
+    for name, values in data.items():
+        kind = "UInt8" if values.dtype == np.uint8 else "Int64"
+        text = " ".join(map(str, values.tolist()))
+        arrays.append(
+            f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="{values.size}" '
+            f'format="ascii">\n{text}\n</DataArray>\n'
+        )
+    return ("<FieldData>\n" + "".join(arrays) + "</FieldData>\n").encode("utf-8")
+
+
+def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
     """Copy the meshio output ``src`` to ``dst`` with a <FieldData> block in <UnstructuredGrid>."""
     tag = b"<UnstructuredGrid>"
     with open(src, "rb") as fin, open(dst, "wb") as fout:
@@ -70,12 +109,12 @@ def _insert_field_data(src: Path, dst: Path, meta: str) -> None:
         if at < 0:
             raise ExportError(f"unexpected VTU layout from meshio in {src}: no {tag.decode()}")
         at += len(tag)
-        fout.write(head[:at] + b"\n" + _field_data_xml(meta) + head[at:])
+        fout.write(head[:at] + b"\n" + _field_data_xml(data) + head[at:])
         shutil.copyfileobj(fin, fout, 1 << 22)
 
 
-def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
-    """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M)."""
+def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
+    """``mesh`` as a :class:`meshio.Mesh`: polygons then boundary lines, cell data -1 padded."""
     import meshio
 
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
@@ -87,7 +126,7 @@ def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
     def data(on_cells: np.ndarray, on_lines: np.ndarray) -> list[np.ndarray]:
         return [on_cells, on_lines] if eb else [on_cells]
 
-    out = meshio.Mesh(
+    return meshio.Mesh(
         np.column_stack([mesh.points, np.zeros(mesh.n_points)]),
         cells,
         cell_data={
@@ -97,6 +136,13 @@ def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
             "patch": data(minus_m, mesh.boundary_patch),
         },
     )
+
+
+def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
+    """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M)."""
+    import meshio
+
+    out = meshio_mesh(mesh)
     big = max(mesh.cells.nbytes * 2, mesh.points.nbytes * 2) >= 2**31
     with atomic_file(path) as final, scratch_file(path) as raw:
         meshio.vtu.write(
@@ -106,8 +152,74 @@ def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
             compression=None if compression == "none" else compression,
             header_type="UInt64" if big else None,
         )
-        _insert_field_data(raw, final, encode_metadata(mesh))
+        _insert_field_data(raw, final, field_data(mesh))
     return Path(path).absolute()
+
+
+def _names(meta: dict, fields: dict, kind: str) -> list[str] | None:
+    """The names of ``kind`` from the metadata, else from the ``KIND:NAME`` lookups."""
+    names = meta.get(f"{kind}_names")
+    if isinstance(names, list):
+        return [str(n) for n in names]
+    prefix = f"{kind}:"
+    lookup = {
+        int(np.asarray(v).ravel()[0]): k[len(prefix) :]
+        for k, v in fields.items()
+        if k.startswith(prefix) and np.asarray(v).size == 1
+    }
+    if not lookup or sorted(lookup) != list(range(len(lookup))):
+        return None
+    return [lookup[k] for k in range(len(lookup))]
+
+
+def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
+    """A :class:`Mesh` from a meshio mesh of pentagons (and boundary lines) read from ``where``.
+
+    Cell data ``block_id``, ``region``, ``parent`` and ``patch`` are used when present, names
+    from ``meta`` (the JSON metadata) or the ``patch:NAME`` lookups of the field data.
+    """
+    return mesh_from_arrays(where=where, **meshio_arrays(vm, meta, where))
+
+
+def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
+    """The arguments of :func:`mesh_from_arrays` for :func:`mesh_from_meshio`."""
+    blocks = [(k, c.type, c.data) for k, c in enumerate(vm.cells)]
+    polys = [(k, d) for k, t, d in blocks if t in ("polygon", "pentagon")]
+    lines = [(k, d) for k, t, d in blocks if t == "line"]
+    others = sorted({t for _, t, _ in blocks} - {"polygon", "pentagon", "line"})
+    if others or not polys:
+        raise ExportError(
+            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads pentagon "
+            "meshes only (polygons of 5 nodes, optionally with boundary lines)"
+        )
+    if any(np.asarray(d).ndim != 2 or np.asarray(d).shape[1] != 5 for _, d in polys):
+        raise ExportError(f"{where}: some polygons do not have 5 nodes; blockmesh reads pentagons")
+
+    def gather(name: str, which: list[tuple[int, np.ndarray]]) -> np.ndarray | None:
+        if name not in vm.cell_data:
+            return None
+        parts = [np.asarray(vm.cell_data[name][k]).ravel() for k, _ in which]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    cells = polys[0][1] if len(polys) == 1 else np.concatenate([d for _, d in polys])
+    edges = np.concatenate([d for _, d in lines]) if lines else None
+    patch = gather("patch", lines) if lines else None
+    patch_names = _names(meta, vm.field_data, "patch")
+    if edges is not None and patch is None:
+        patch_names = patch_names or ["boundary"]
+    return {
+        "points": vm.points,
+        "cells": cells,
+        "block_id": gather("block_id", polys),
+        "parent": gather("parent", polys),
+        "region": gather("region", polys),
+        "region_names": _names(meta, vm.field_data, "region"),
+        "boundary_edges": edges if edges is not None else (np.empty((0, 2)) if meta else None),
+        "boundary_patch": patch,
+        "patch_names": patch_names,
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+    }
 
 
 def read_vtu(path: Path) -> Mesh:
@@ -122,50 +234,14 @@ def read_vtu(path: Path) -> Mesh:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            vm = meshio.read(str(path), file_format="vtu")
+            vm = meshio.vtu.read(str(path))  # not meshio.read: it exits the interpreter on errors
     except Exception as exc:  # meshio raises many kinds
         raise ExportError(f"cannot read {where} as VTU: {exc}") from None
-    blocks = [(k, c.type, c.data) for k, c in enumerate(vm.cells)]
-    polys = [(k, d) for k, t, d in blocks if t == "polygon" or t == "pentagon"]
-    lines = [(k, d) for k, t, d in blocks if t == "line"]
-    others = sorted({t for _, t, _ in blocks} - {"polygon", "pentagon", "line"})
-    if others or not polys:
-        raise ExportError(
-            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads pentagon "
-            "meshes only (polygons of 5 nodes, optionally with boundary lines)"
-        )
-    if any(np.asarray(d).ndim != 2 or np.asarray(d).shape[1] != 5 for _, d in polys):
-        raise ExportError(f"{where}: some polygons do not have 5 nodes; blockmesh reads pentagons")
-
-    def gather(name: str, which: list[tuple[int, np.ndarray]]) -> np.ndarray | None:
-        if name not in vm.cell_data:
-            return None
-        return np.concatenate([np.asarray(vm.cell_data[name][k]).ravel() for k, _ in which])
-
-    meta = decode_metadata(
-        np.asarray(vm.field_data[_FIELD]).astype(np.uint8) if _FIELD in vm.field_data else None,
-        where,
-    )
-    cells = np.concatenate([d for _, d in polys])
-    edges = np.concatenate([d for _, d in lines]) if lines else None
-    patch = gather("patch", lines) if lines else None
-    patch_names = meta.get("patch_names")
-    if edges is not None and patch is None:
-        patch_names = patch_names or ("boundary",)
-    return mesh_from_arrays(
-        vm.points,
-        cells,
-        where=where,
-        block_id=gather("block_id", polys),
-        parent=gather("parent", polys),
-        region=gather("region", polys),
-        region_names=meta.get("region_names"),
-        boundary_edges=edges if edges is not None else (np.empty((0, 2)) if meta else None),
-        boundary_patch=patch,
-        patch_names=patch_names,
-        level=meta.get("level", 0),
-        name=meta.get("name", ""),
-    )
+    raw = vm.field_data.get(_FIELD)
+    meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
+    arrays = meshio_arrays(vm, meta, where)
+    del vm  # meshio's copies are freed before the Mesh is built
+    return mesh_from_arrays(where=where, **arrays)
 
 
 FORMAT = Format(

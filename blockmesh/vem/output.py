@@ -32,12 +32,13 @@ Examples
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..atomic import atomic_file, atomic_files
+from ..atomic import atomic_file, atomic_with_data
 from ..errors import ExportError
 from .elasticity import ElasticitySolution
 from .poisson import PoissonSolution
@@ -138,10 +139,11 @@ def _write_xdmf(
             f"of {sizes} vertices; write a .vtu file instead"
         )
     group = mesh.groups[0]
-    h5 = path.with_suffix(".h5")
     order = np.argsort(group.index)  # cells in the mesh's order
-    with atomic_files(path, h5) as (tmp_xdmf, tmp_h5):
+    owned = _owned_by(path.name)
+    with atomic_with_data(path, ".h5", owned=owned) as (tmp_xdmf, tmp_h5, h5):
         with h5py.File(tmp_h5, "w") as f:
+            f.attrs[_OWNER] = path.name
             f.create_dataset("points", data=mesh.points)
             f.create_dataset("cells", data=group.cells[order])
             for name, values in point.items():
@@ -154,6 +156,25 @@ def _write_xdmf(
             tree.write(out, encoding="utf-8", xml_declaration=False)
             out.write(b"\n")
     return path
+
+
+#: HDF5 attribute naming the ``.xdmf`` file a data file belongs to (so old ones can be removed).
+_OWNER = "blockmesh_solution_of"
+
+
+def _owned_by(light: str) -> Callable[[Path], bool]:
+    """Whether an ``.h5`` file is the data file of an earlier solution written to ``light``."""
+
+    def owned(candidate: Path) -> bool:
+        import h5py
+
+        try:
+            with h5py.File(candidate, "r") as f:
+                return bool(f.attrs.get(_OWNER) == light)
+        except Exception:  # not an HDF5 file, or a damaged one: not ours to remove
+            return False
+
+    return owned
 
 
 def _item(parent: ET.Element, h5name: str, dataset: str, array: np.ndarray) -> None:

@@ -58,7 +58,9 @@ def test_elasticity_writes_displacements_and_stresses(capsys, tmp_path):
     tree = ET.parse(out)
     names = {a.get("Name"): a.get("Center") for a in tree.iter("Attribute")}
     assert names == {"displacement": "Node", "stress": "Cell", "von_mises": "Cell"}
-    with h5py.File(out.with_suffix(".h5")) as f:
+    data = {item.text.split(":")[0] for item in tree.iter("DataItem")}
+    assert len(data) == 1 and sorted(p.name for p in tmp_path.glob("*.h5")) == sorted(data)
+    with h5py.File(tmp_path / data.pop()) as f:
         displacement = f["point/displacement"][()]
         assert displacement.shape == (report["nodes"], 3)
         assert np.hypot(*displacement[:, :2].T).max() == pytest.approx(report["max_displacement"])

@@ -1,7 +1,7 @@
 """Decompose a convex polygon into strictly convex pentagons that meet edge to edge.
 
 A convex n-gon becomes a conforming block mesh of strictly convex, counter-clockwise pentagons
-(MATH.md section 4):
+(``docs/mathematics.md`` §4):
 
 - ``n = 5``: the polygon itself (layout ``"pentagon"``);
 - ``n = 3``: a 9-pentagon template in barycentric coordinates, mapped affinely
@@ -39,19 +39,22 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import DomainError
-from .geometry import (
+from ..errors import DomainError
+from ..geometry import (
     COLLINEAR_SIN_TOL,
     interior_angles,
     is_strictly_convex,
     polygon_diameter,
 )
+from .templates import SQUARE_FACES, TRIANGLE_FACES, TRIANGLE_WEIGHTS, square_weights
 
 __all__ = ["Decomposition", "decompose_convex_polygon"]
 
+#: Corners beyond which the exact chord programme (O(n^5)) is not used (see decompose_polygon).
+_CHORD_LIMIT = 16
 #: Points closer than this times the polygon's diameter count as the same point (as in domain
 #: validation); an edge that short breaks the input contract.
-_SAME_POINT = 1e-9
+_SAME_POINT = 1e-11
 
 
 @dataclass(frozen=True)
@@ -69,9 +72,14 @@ class Decomposition:
         ``edge_chains[i]`` lists the vertex ids along polygon edge ``i``, from vertex ``i`` to
         vertex ``(i + 1) % n`` inclusive, in order.
     layout : str
-        ``"pentagon"``, ``"chords"``, ``"star"``, ``"triangle-template"`` or ``"quad-template"``.
+        ``"pentagon"``, ``"chords"``, ``"star"``, ``"triangle-template"`` or ``"quad-template"``
+        for a convex polygon's exact layouts; ``"triangulation"`` for the general route of
+        :func:`blockmesh.decompose.decompose_polygon`.
     min_angle, max_angle : float
         Smallest and largest interior angle over all blocks, in degrees.
+    hole_chains : tuple of tuple of ndarray
+        ``hole_chains[k][i]``: the vertex ids along edge ``i`` of hole ``k``, as ``edge_chains``
+        (empty for a polygon without holes).
 
     Examples
     --------
@@ -87,6 +95,7 @@ class Decomposition:
     layout: str
     min_angle: float
     max_angle: float
+    hole_chains: tuple[tuple[np.ndarray, ...], ...] = ()
 
 
 def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
@@ -96,14 +105,17 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     ----------
     polygon : ndarray, shape (n, 2)
         ``n >= 3`` vertices, counter-clockwise, strictly convex: no repeated points (every edge
-        longer than ``1e-9`` times the diameter) and every corner turning left by more than
+        longer than ``1e-11`` times the diameter) and every corner turning left by more than
         :data:`~blockmesh.geometry.COLLINEAR_SIN_TOL` in sine.
 
     Returns
     -------
     Decomposition
         9 blocks for a triangle, 8 for a quadrilateral, the polygon itself for a pentagon and
-        ``ceil((n - 2) / 3)`` blocks for ``n >= 6`` (the minimum the angle sum allows).
+        ``ceil((n - 2) / 3)`` blocks for ``6 <= n <= 16`` (the minimum the angle sum allows).
+        Beyond 16 corners the chord programme's cost (and its long thin pieces) rule it out: the
+        polygon goes through :func:`blockmesh.decompose.decompose_polygon` (layout
+        ``"triangulation"``).
 
     Raises
     ------
@@ -137,10 +149,15 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     """
     p = _checked_polygon(polygon)
     n = len(p)
+    if n > _CHORD_LIMIT:
+        # The chord programme is O(n^5): beyond its limit the quality triangulation takes over.
+        from .polygon import decompose_polygon
+
+        return decompose_polygon([p])
     if n == 3:
-        layout = _template_layout(p, _TRIANGLE_WEIGHTS, _TRIANGLE_FACES, "triangle-template")
+        layout = _template_layout(p, TRIANGLE_WEIGHTS, TRIANGLE_FACES, "triangle-template")
     elif n == 4:
-        layout = _template_layout(p, _square_weights(p), _SQUARE_FACES, "quad-template")
+        layout = _template_layout(p, square_weights(p), SQUARE_FACES, "quad-template")
     elif n == 5:
         chains = [np.array([i, (i + 1) % 5]) for i in range(5)]
         layout = _Layout("pentagon", p, np.arange(5)[None, :], chains, np.inf)
@@ -206,68 +223,7 @@ def _finished(layout: _Layout) -> Decomposition:
     )
 
 
-# --- templates for triangles and quadrilaterals (MATH.md section 4) ---------------------------
-
-
-def _triangle_weights() -> np.ndarray:
-    a, p, q, r, s = 0.664355, 0.528535, 0.297646, 0.173819, 0.383415
-    t = 1.0 / 3.0
-    b, u = 1.0 - a, 1.0 - 2.0 * s
-    return np.array(
-        [
-            (1, 0, 0), (a, b, 0), (b, a, 0), (q, p, r), (s, s, u), (p, q, r), (p, r, q),
-            (a, 0, b), (b, 0, a), (0, 0, 1), (0, b, a), (r, q, p), (q, r, p), (s, u, s),
-            (t, t, t), (u, s, s), (r, p, q), (0, a, b), (0, 1, 0),
-        ],
-        dtype=np.float64,
-    )  # fmt: skip
-
-
-_TRIANGLE_WEIGHTS = _triangle_weights()
-_TRIANGLE_FACES = np.array(
-    [
-        [0, 1, 5, 6, 7], [1, 2, 3, 4, 5], [2, 18, 17, 16, 3], [3, 16, 15, 14, 4],
-        [4, 14, 13, 6, 5], [6, 13, 12, 8, 7], [8, 12, 11, 10, 9], [10, 11, 15, 16, 17],
-        [11, 12, 13, 14, 15],
-    ]
-)  # fmt: skip
-
-
-def _square_nodes() -> np.ndarray:
-    y1, c, d, e, g = 0.306387, 0.229053, 0.313345, 0.377906, 0.372143
-    return np.array(
-        [
-            (0, 0), (0.5, 0), (0.5, c), (d, e), (0, y1), (0, 1 - y1), (0, 1), (0.5, 1), (1, 1),
-            (1, 1 - y1), (1 - d, 1 - e), (0.5, 1 - c), (d, 1 - e), (g, 0.5), (1 - g, 0.5),
-            (1 - d, e), (1, y1), (1, 0),
-        ],
-        dtype=np.float64,
-    )  # fmt: skip
-
-
-_SQUARE_NODES = _square_nodes()
-_SQUARE_FACES = np.array(
-    [
-        [0, 1, 2, 3, 4], [1, 17, 16, 15, 2], [2, 15, 14, 13, 3], [3, 13, 12, 5, 4],
-        [5, 12, 11, 7, 6], [7, 11, 10, 9, 8], [9, 10, 14, 15, 16], [10, 11, 12, 13, 14],
-    ]
-)  # fmt: skip
-
-
-def _square_weights(quad: np.ndarray) -> np.ndarray:
-    """Homogeneous weights of the square template's nodes on the corners of ``quad``.
-
-    The projective map sending the unit square's corners to ``quad`` sends ``(u, v)`` to
-    ``sum_i phi_i w_i Q_i / sum_i phi_i w_i`` with the bilinear weights ``phi`` of ``(u, v)`` and
-    ``w_i`` twice the area of the triangle of the other three corners (the diagonals cut each
-    other in the ratios of these areas). Nodes on an edge get weight on its two corners only.
-    """
-    u, v = _SQUARE_NODES[:, 0:1], _SQUARE_NODES[:, 1:2]
-    phi = np.hstack([(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v])
-    # Twice the area of the triangle without corner i is the cross product at corner i + 2,
-    # computed as corner_sines does, so it is positive whenever the quad meets the contract.
-    inc, out = quad - np.roll(quad, 1, axis=0), np.roll(quad, -1, axis=0) - quad
-    return phi * np.roll(inc[:, 0] * out[:, 1] - inc[:, 1] * out[:, 0], -2)
+# --- templates for triangles and quadrilaterals ------------------------------------------------
 
 
 def _template_layout(
