@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .errors import ResourceError
-from .template import node_count, template_is_alive
+from .template import TEMPLATE_CACHE_BYTES, node_count, template_is_alive
 
 __all__ = [
     "STAGE_COSTS",
@@ -81,8 +81,8 @@ STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
     ("plot",): StageCost(26, 5_000_000, _PLOT),
     ("plot", "polygons"): StageCost(900, 5_000_000, _PLOT),
     ("quality_plot",): StageCost(26, 60_000_000, _PLOT),
-    ("export", "xdmf", "none"): StageCost(1, 2_000_000, _IO),
-    ("export", "xdmf", "zlib"): StageCost(2, 3_000_000, _IO),
+    ("export", "xdmf", "none"): StageCost(60, 12_000_000, _IO),
+    ("export", "xdmf", "zlib"): StageCost(58, 22_000_000, _IO),
     ("export", "npz", None): StageCost(10, 2_000_000, _IO),
     ("export", "mat", None): StageCost(345, 2_000_000, (*_IO, ("scipy.io", 20_000_000))),
     ("export", "vtu", "none"): StageCost(290, 2_000_000, _IO),
@@ -228,6 +228,10 @@ def predict_mesh_command(
     stages = [
         ("refinement", base + mesh + refinement_working_bytes(n_blocks, steps, smooth=smooth))
     ]
+    # A template the refinement builds stays cached for the later stages when it fits the cache.
+    template = TEMPLATE_BYTES_PER_CELL * 6**steps
+    if not template_is_alive(steps) and template <= TEMPLATE_CACHE_BYTES:
+        mesh += template
     stages.append(("report", base + mesh + STAGE_COSTS["report",].bytes(cells)))
     if numbering == "rcm":
         stages.append(("rcm numbering", base + mesh + STAGE_COSTS["rcm",].bytes(cells)))
