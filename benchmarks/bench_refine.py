@@ -2,9 +2,10 @@
 
 Run: ``python benchmarks/bench_refine.py`` (needs ``pip install -e '.[bench]'`` for the peers).
 Prints ns per cell and cells per second for a single pentagon (the paper's SP) at levels 4-8,
-warm (template cached) and on the first call in a fresh process, an 8-block domain at level 7,
-the peak memory over the output arrays, and the peers meshing a comparable number of triangles of
-the same pentagon, with ratios. Not a test: timings on shared machines are noisy; each figure is
+warm (template cached) and on the first call in a fresh process, every catalogue domain at level 7
+(and 8 where it fits in a few hundred MB) against SP in the same run, the peak memory over the
+output arrays, the template cache, and the peers meshing a comparable number of triangles of the
+same pentagon, with ratios. Not a test: timings on shared machines are noisy; each figure is
 the best of several runs after a warm-up.
 """
 
@@ -19,7 +20,8 @@ import tracemalloc
 import numpy as np
 
 import blockmesh
-from blockmesh.template import pentagon_template
+from blockmesh.catalogue import catalogue_names
+from blockmesh.template import TEMPLATE_CACHE_BYTES, cached_template_bytes, pentagon_template
 
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 
@@ -116,6 +118,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--gmsh-triangles", type=int, default=200_000)
+    parser.add_argument("--max-cells", type=int, default=15_000_000)
     args = parser.parse_args()
 
     sp = blockmesh.load_domain("sp")
@@ -137,12 +140,33 @@ def main() -> None:
         f"{6**8 / first / 1e6:.1f} M cells/s ({first / 6**8 * 1e9:.0f} ns/cell), "
         f"peak memory {first_peak:.2f} x the output arrays"
     )
-    joined = blockmesh.load_domain("joined-8")
-    seconds = best_of(lambda: blockmesh.refine(joined, 7), max(2, args.repeat // 2))
-    cells = joined.n_blocks * 6**7
     print(
-        f"8-block domain (joined-8), level 7: {cells:,} cells in {seconds * 1e3:.0f} ms = "
-        f"{seconds / cells * 1e9:.1f} ns/cell, {cells / seconds / 1e6:.1f} M cells/s"
+        "\nevery catalogue domain, warm (ratio: ns per cell over SP's at the same level; floor: "
+        "allocating and writing as many bytes as the output, np.ones)"
+    )
+    print(
+        f"{'domain':>11} {'blocks':>6} {'level':>5} {'cells':>11} {'ms':>8} {'ns/cell':>8} "
+        f"{'ratio':>6} {'floor':>6}"
+    )
+    for level in (7, 8):
+        sp_ns = best_of(lambda level=level: blockmesh.refine(sp, level), args.repeat) / 6**level
+        for name in catalogue_names():
+            domain = blockmesh.load_domain(name)
+            cells = domain.n_blocks * 6**level
+            if cells > args.max_cells:
+                continue
+            seconds = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv), args.repeat)
+            nbytes = blockmesh.refine(domain, level).nbytes()
+            floor = best_of(lambda n=nbytes: np.ones(n // 8), args.repeat)
+            print(
+                f"{name:>11} {domain.n_blocks:>6} {level:>5} {cells:>11,} {seconds * 1e3:>8.1f} "
+                f"{seconds / cells * 1e9:>8.1f} {seconds / cells / sp_ns:>6.2f} "
+                f"{floor / cells * 1e9:>6.1f}"
+            )
+    joined = blockmesh.load_domain("joined-8")
+    print(
+        f"template cache: {cached_template_bytes() / 1e6:.0f} MB kept "
+        f"(bounded by {TEMPLATE_CACHE_BYTES / 2**20:.0f} MiB)"
     )
     for name, domain, level in (("SP", sp, 8), ("joined-8", joined, 7)):
         ratio, nbytes = peak_ratio(domain, level)
@@ -152,11 +176,14 @@ def main() -> None:
         )
 
     print("\npeers on the same pentagon (elements per second; ratio = blockmesh level 8 / peer):")
-    tri_rate, tri_count = triangle_rate(6**8, max(2, args.repeat // 2))
-    print(
-        f"  Triangle: {tri_count:,} triangles at {tri_rate / 1e6:.2f} M/s -> blockmesh is "
-        f"{rates[8] / tri_rate:.0f}x faster per element"
-    )
+    try:
+        tri_rate, tri_count = triangle_rate(6**8, max(2, args.repeat // 2))
+        print(
+            f"  Triangle: {tri_count:,} triangles at {tri_rate / 1e6:.2f} M/s -> blockmesh is "
+            f"{rates[8] / tri_rate:.0f}x faster per element"
+        )
+    except ImportError:
+        print("  Triangle: not installed (pip install triangle)")
     try:
         gm_rate, gm_count = gmsh_rate(args.gmsh_triangles)
         print(

@@ -4,6 +4,10 @@ The pipeline: a :class:`Domain` (validated blocks, from a polygon, explicit bloc
 is refined into a :class:`Mesh` (:func:`refine`), which is integrated over or written to solver
 formats.
 
+The public names are imported on first use (PEP 562 module ``__getattr__``), so that
+``import blockmesh`` and ``blockmesh --version`` stay fast; ``from blockmesh import refine`` and
+``blockmesh.refine`` work as usual.
+
 Examples
 --------
 >>> import blockmesh
@@ -12,28 +16,42 @@ Examples
 144
 """
 
-from .domain import Domain
-from .errors import (
-    ArgumentError,
-    ArgumentTypeError,
-    BlockMeshError,
-    BlockMeshWarning,
-    DomainError,
-    DomainFormatError,
-    ExportError,
-    ExpressionError,
-    ResourceError,
-    SolverError,
-    TopologyError,
-    UnknownNameError,
-)
-from .exact import exact_integral
-from .expr import parse_expression
-from .io import read, write
-from .loading import load_domain, parse_polygon_string
-from .mesh import Mesh, MeshQuality
-from .quadrature import IntegrationResult, integrate, integrate_to_tolerance, quadrature_points
-from .refinement import refine
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+__version__ = "0.1.0"
+
+#: Public name -> the module that defines it.
+_EXPORTS = {
+    "Domain": "domain",
+    "ArgumentError": "errors",
+    "ArgumentTypeError": "errors",
+    "BlockMeshError": "errors",
+    "BlockMeshWarning": "errors",
+    "DomainError": "errors",
+    "DomainFormatError": "errors",
+    "ExportError": "errors",
+    "ExpressionError": "errors",
+    "ResourceError": "errors",
+    "SolverError": "errors",
+    "TopologyError": "errors",
+    "UnknownNameError": "errors",
+    "exact_integral": "exact",
+    "parse_expression": "expr",
+    "read": "io",
+    "write": "io",
+    "load_domain": "loading",
+    "parse_polygon_string": "loading",
+    "Mesh": "mesh",
+    "MeshQuality": "mesh",
+    "IntegrationResult": "quadrature",
+    "integrate": "quadrature",
+    "integrate_to_tolerance": "quadrature",
+    "quadrature_points": "quadrature",
+    "refine": "refinement",
+}
 
 __all__ = [
     "ArgumentError",
@@ -63,4 +81,48 @@ __all__ = [
     "refine",
     "write",
 ]
-__version__ = "0.1.0"
+
+
+def __getattr__(name: str) -> Any:
+    """Import a public name's module on first use and cache the name here."""
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'blockmesh' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    """The public names with the module's own."""
+    return sorted(set(globals()) | set(_EXPORTS))
+
+
+if TYPE_CHECKING:  # for type checkers and IDEs: the names as if imported eagerly
+    from .domain import Domain
+    from .errors import (
+        ArgumentError,
+        ArgumentTypeError,
+        BlockMeshError,
+        BlockMeshWarning,
+        DomainError,
+        DomainFormatError,
+        ExportError,
+        ExpressionError,
+        ResourceError,
+        SolverError,
+        TopologyError,
+        UnknownNameError,
+    )
+    from .exact import exact_integral
+    from .expr import parse_expression
+    from .io import read, write
+    from .loading import load_domain, parse_polygon_string
+    from .mesh import Mesh, MeshQuality
+    from .quadrature import (
+        IntegrationResult,
+        integrate,
+        integrate_to_tolerance,
+        quadrature_points,
+    )
+    from .refinement import refine

@@ -24,14 +24,19 @@ import warnings
 from collections.abc import Iterator, Sequence
 
 from . import __version__
-from .commands import COMMANDS
+from .commands import SUMMARIES, load
 from .errors import BlockMeshError
 
 __all__ = ["Terminated", "build_parser", "main"]
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every subcommand registered."""
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser with every subcommand registered.
+
+    With ``only`` (a command name, or ``""`` for none) just that command's module is imported
+    and registered in full; the others are listed by name and summary, which is all
+    ``blockmesh --help`` needs.
+    """
     parser = argparse.ArgumentParser(
         prog="blockmesh",
         description="Multi-block all-pentagonal meshes of 2-D domains: check, show, mesh, "
@@ -39,8 +44,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"blockmesh {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for command in COMMANDS:
-        command.register(subparsers)
+    for name, summary in SUMMARIES.items():
+        if only is None or name == only:
+            load(name).register(subparsers)
+        else:
+            subparsers.add_parser(name, help=summary, add_help=False)
     return parser
 
 
@@ -83,7 +91,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     ``BLOCKMESH_DEBUG=1`` to see its traceback), 130 Ctrl-C, 128 + N for signal N
     (SIGTERM 143, SIGHUP 129).
     """
-    parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    chosen = next((a for a in argv if not a.startswith("-")), "")
+    parser = build_parser(chosen if chosen in SUMMARIES else "")
     args = parser.parse_args(argv)
     where = f"blockmesh {args.command}"
     with warnings.catch_warnings(), _signals_as_interrupts():

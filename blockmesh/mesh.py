@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field, fields
 from typing import Any
 
@@ -22,14 +23,17 @@ import numpy as np
 
 from .curves import CurvedEdges
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
-from .geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
-from .topology import boundary_of_cells, check_boundary, unique_edges
+from .geometry import signed_area
+from .measures import CellMeasures, measure_cells
+from .topology import boundary_of_cells, check_boundary
 
 __all__ = ["Mesh", "MeshQuality"]
 
 
 #: Cells whose measures are computed at once by the chunked checks and measures.
 _CHUNK = 1 << 18
+#: Cells per step of :meth:`Mesh.bandwidth` (five columns of int64 temporaries in cache).
+_BANDWIDTH_CHUNK = 1 << 15
 
 
 def _frozen(values: Any, dtype: Any, what: str, tail: tuple[int, ...] = ()) -> np.ndarray:
@@ -294,9 +298,37 @@ class Mesh:
         return (5 * self.n_cells + int(self.boundary_edges.shape[0])) // 2
 
     def edges(self) -> np.ndarray:
-        """Unique undirected edges (E, 2), cached. O(M log M)."""
+        """Unique undirected edges (E, 2) as (lower id, higher id), cached. O(M), no sorting.
+
+        Cells run counter-clockwise, so an edge two cells share runs one way in one and the other
+        way in the other: each is listed once where it runs from its lower node to its higher.
+        Boundary edges, in one cell only, are added where they run downwards. Edges come in the
+        order of the cells (boundary edges running downwards last).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> blockmesh.load_domain("joined-2").mesh(0).edges().tolist()
+        [[0, 1], [1, 2], [2, 3], [3, 4], [1, 5], [5, 6], [6, 7], [2, 7], [0, 4]]
+        """
         if "edges" not in self._cache:
-            edges = unique_edges(self.cells, self.n_points)
+            edges = np.empty((self.n_edges, 2), dtype=np.int64)
+            filled = 0
+            for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
+                tail = self.cells[start : start + _BANDWIDTH_CHUNK]
+                head = tail[:, [1, 2, 3, 4, 0]]
+                upward = tail < head
+                count = int(np.count_nonzero(upward))
+                edges[filled : filled + count, 0] = tail[upward]
+                edges[filled : filled + count, 1] = head[upward]
+                filled += count
+            down = self.boundary_edges[self.boundary_edges[:, 0] > self.boundary_edges[:, 1]]
+            if filled + down.shape[0] != edges.shape[0]:
+                raise DomainError(
+                    "the cells do not meet edge to edge with consistent orientation; the mesh "
+                    "is broken"
+                )
+            edges[filled:] = down[:, ::-1]
             edges.setflags(write=False)
             self._cache["edges"] = edges
         return self._cache["edges"]
@@ -325,10 +357,16 @@ class Mesh:
             or [np.zeros(0)]
         )
 
+    def _measures(self, progress: Callable[[int, int], None] | None = None) -> CellMeasures:
+        """Areas, angles, aspect and convexity of all cells, measured once (cached)."""
+        if "measures" not in self._cache:
+            self._cache["measures"] = measure_cells(self, progress=progress)
+        return self._cache["measures"]
+
     @property
     def area(self) -> float:
         """Total area of the mesh (sum of cell areas)."""
-        return float(np.sum(self.cell_areas()))
+        return self._measures().area
 
     def curved_cell_areas(self) -> np.ndarray:
         """Area of every cell bounded by its curved edges (the exact geometry), shape (M,).
@@ -356,8 +394,14 @@ class Mesh:
         return float(np.sum(self.curved_cell_areas()))
 
     # --------------------------------------------------------------- quality
-    def quality(self, *, chunk: int = 1 << 18) -> MeshQuality:
+    def quality(
+        self, *, chunk: int | None = None, progress: Callable[[int, int], None] | None = None
+    ) -> MeshQuality:
         """Angles, aspect ratios and areas of the cells, in chunks (bounded memory).
+
+        One pass over the cells, shared with :attr:`area` and :meth:`check_geometry` and cached;
+        ``chunk`` (cells per pass step) only changes the memory used, not the result.
+        ``progress(done, total)`` hears how many cells are measured, when they are.
 
         Examples
         --------
@@ -366,25 +410,17 @@ class Mesh:
         >>> round(q.min_angle, 1), round(q.max_angle, 1), q.not_strictly_convex
         (56.3, 150.3, 0)
         """
-        min_angle, max_angle, max_aspect = np.inf, -np.inf, 0.0
-        min_area, max_area, bad = np.inf, -np.inf, 0
-        for start in range(0, self.n_cells, chunk):
-            xy = self._local_corners(start, start + chunk)
-            angles = interior_angles(xy)
-            areas = signed_area(xy)
-            diff = xy[:, :, None, :] - xy[:, None, :, :]
-            diam2 = np.max(np.einsum("mijk,mijk->mij", diff, diff), axis=(1, 2))
-            with np.errstate(divide="ignore", invalid="ignore"):
-                aspect = np.where(areas > 0, diam2 / np.where(areas > 0, areas, 1.0), np.inf)
-            sines = np.nan_to_num(corner_sines(xy), nan=-1.0)
-            bad += int(np.count_nonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1)))
-            min_angle = min(min_angle, float(angles.min()))
-            max_angle = max(max_angle, float(angles.max()))
-            max_aspect = max(max_aspect, float(aspect.max()))
-            min_area = min(min_area, float(areas.min()))
-            max_area = max(max_area, float(areas.max()))
-        ratio = min_area / max_area if max_area > 0 else 0.0
-        return MeshQuality(min_angle, max_angle, max_aspect, min_area, max_area, ratio, bad)
+        m = self._measures(progress) if chunk is None else measure_cells(self, chunk=chunk)
+        ratio = m.min_area / m.max_area if m.max_area > 0 else 0.0
+        return MeshQuality(
+            m.min_angle,
+            m.max_angle,
+            m.max_aspect_ratio,
+            m.min_area,
+            m.max_area,
+            ratio,
+            m.not_strictly_convex,
+        )
 
     def check_geometry(self) -> None:
         """Raise DomainError unless every cell is a strictly convex, counter-clockwise polygon.
@@ -401,14 +437,8 @@ class Mesh:
         if not np.all(np.isfinite(self.points)):
             bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
             raise DomainError(f"point {bad} {self.points[bad].tolist()} is not finite")
-        failed, first = 0, -1
-        for start in range(0, self.n_cells, _CHUNK):
-            xy = self._local_corners(start, start + _CHUNK)
-            sines = np.nan_to_num(corner_sines(xy), nan=-1.0)
-            bad = ~(np.all(sines > COLLINEAR_SIN_TOL, axis=1) & (signed_area(xy) > 0))
-            if first < 0 and np.any(bad):
-                first = start + int(np.flatnonzero(bad)[0])
-            failed += int(np.count_nonzero(bad))
+        measures = self._measures()
+        failed, first = measures.invalid, measures.first_invalid
         if failed:
             corners = self.points[self.cells[first]]
             raise DomainError(
@@ -428,9 +458,18 @@ class Mesh:
         >>> blockmesh.load_domain("sp").mesh(1).bandwidth()
         14
         """
-        if self.n_cells == 0:
-            return 0
-        return int(np.max(self.cells.max(axis=1) - self.cells.min(axis=1)))
+        widest = 0
+        for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
+            columns = self.cells[start : start + _BANDWIDTH_CHUNK].T
+            high = np.maximum(
+                np.maximum(columns[0], columns[1]), np.maximum(columns[2], columns[3])
+            )
+            np.maximum(high, columns[4], out=high)
+            low = np.minimum(np.minimum(columns[0], columns[1]), np.minimum(columns[2], columns[3]))
+            np.minimum(low, columns[4], out=low)
+            high -= low
+            widest = max(widest, int(high.max()))
+        return widest
 
     def renumbered(self, order: np.ndarray) -> Mesh:
         """The same mesh with node ``order[k]`` renamed ``k`` (a permutation of ``0..N-1``).

@@ -18,10 +18,24 @@ import numpy as np
 from .atomic import atomic_file
 from .errors import ExportError
 
-__all__ = ["plot_domain", "plot_mesh", "plot_quality", "pyplot", "save_figure"]
+__all__ = [
+    "DRAW_LIMIT",
+    "LABEL_LIMIT",
+    "plot_domain",
+    "plot_mesh",
+    "plot_quality",
+    "pyplot",
+    "save_figure",
+]
 
 #: Meshes with at most this many cells get node and cell numbers (like the paper's Figs. 2-4).
 LABEL_LIMIT = 400
+#: Meshes with more cells than this are drawn as a picture of their cell density with the block
+#: outlines and patches: every polygon would be far below a pixel and take minutes to draw.
+DRAW_LIMIT = 200_000
+#: Pixels across the longer side of the cell-density picture (fewer when the largest cells
+#: are bigger than such a pixel).
+DENSITY_PIXELS = 800
 _PATCH_COLOURS = ("#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2")
 _REGION_SHADES = ("#f2f2f2", "#fde9c9", "#dff0d8", "#dbe9f6", "#f4dcec", "#e8e1f3")
 
@@ -63,8 +77,15 @@ def _draw_patches(ax, points, edges, patch, names, curves=None) -> None:
             ax.add_collection(LineCollection(segments, colors=colour, linewidths=2.5, label=name))
 
 
+def _bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest and highest x and y (column by column: ``min(axis=0)`` on (N, 2) is far slower)."""
+    lo = np.array([points[:, 0].min(initial=np.inf), points[:, 1].min(initial=np.inf)])
+    hi = np.array([points[:, 0].max(initial=-np.inf), points[:, 1].max(initial=-np.inf)])
+    return lo, hi
+
+
 def _frame(ax, points, title: str) -> None:
-    lo, hi = points.min(axis=0), points.max(axis=0)
+    lo, hi = _bounds(points)
     pad = 0.04 * float(np.max(hi - lo))
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
@@ -153,8 +174,12 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     """Draw the cells (shaded by block), the patches, and numbers when few enough to read.
 
     ``labels=None`` numbers nodes (blue) and cells (black) when there are at most
-    ``LABEL_LIMIT`` cells.
+    ``LABEL_LIMIT`` cells. A mesh of more than ``DRAW_LIMIT`` cells is drawn as its cell density
+    (cells per unit area, a colour picture of ``DENSITY_PIXELS`` across) with the block outlines
+    and the patches, and the title says so; that takes about a second per few million cells.
     """
+    if mesh.n_cells > DRAW_LIMIT:
+        return _plot_density(mesh, path)
     from matplotlib.collections import PolyCollection
 
     plt = pyplot()
@@ -184,20 +209,132 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     return save_figure(fig, path)
 
 
-def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 18) -> Path:
-    """Histograms of the cells' interior angles and aspect ratios (diameter**2 / area)."""
-    from .geometry import interior_angles, signed_area
+def _block_interfaces(mesh) -> np.ndarray:
+    """Cell edges (E, 2) between cells of different blocks, each listed once or twice.
+
+    A node is on an interface when cells of two blocks use it; an edge is drawn when both its
+    ends are (refinement never joins two such nodes across a block's inside). O(M + B N) with a
+    mask per block for up to 64 blocks (each a contiguous run of cells after refinement), O(M)
+    scattered minima and maxima otherwise.
+    """
+    block_id = mesh.block_id
+    ordered = bool(np.all(block_id[1:] >= block_id[:-1]))
+    blocks = np.unique(
+        block_id[np.r_[True, block_id[1:] != block_id[:-1]]] if ordered else block_id
+    )
+    if blocks.size <= 64:
+        used = np.zeros(mesh.n_points, dtype=bool)
+        shared = np.zeros(mesh.n_points, dtype=bool)
+        mine = np.zeros(mesh.n_points, dtype=bool)
+        edges = np.asarray(np.searchsorted(block_id, np.r_[blocks, blocks[-1] + 1]))
+        bounds = [int(b) for b in edges.ravel()]
+        for k, block in enumerate(blocks):
+            mine[:] = False
+            if ordered:
+                mine[mesh.cells[bounds[k] : bounds[k + 1]]] = True
+            else:
+                mine[mesh.cells[block_id == block]] = True
+            shared |= mine & used
+            used |= mine
+    else:
+        lowest = np.full(mesh.n_points, np.iinfo(np.int64).max)
+        highest = np.full(mesh.n_points, -1)
+        np.minimum.at(lowest, mesh.cells, block_id[:, None])
+        np.maximum.at(highest, mesh.cells, block_id[:, None])
+        shared = lowest != highest
+    # Only cells with an interface node can have an interface edge.
+    near = np.flatnonzero(np.any(shared[mesh.cells], axis=1))
+    start = mesh.cells[near]
+    stop = start[:, [1, 2, 3, 4, 0]]
+    both = shared[start] & shared[stop]
+    return np.stack([start[both], stop[both]], axis=1)
+
+
+def _largest_area(mesh) -> float:
+    """The largest cell area: measured if the mesh has been, else from a sample of cells."""
+    measured = mesh._cache.get("measures")
+    if measured is not None:
+        return float(measured.max_area)
+    step = max(1, mesh.n_cells // 65536)
+    xy = mesh.points[mesh.cells[::step]]
+    xy -= xy[:, :1]
+    from .geometry import signed_area
+
+    return 2.0 * float(signed_area(xy).max(initial=0.0))  # a sample can miss the largest
+
+
+def _density_picture(mesh, pixel: float, shape: np.ndarray) -> np.ndarray:
+    """Cells per unit area in each pixel: cells whose vertex mean falls there over their area."""
+    lo = _bounds(mesh.points)[0]
+    counts = np.zeros(int(shape[0] * shape[1]))
+    areas = np.zeros_like(counts)
+    z_points = mesh.points.view(np.complex128).reshape(-1)
+    chunk = 1 << 16
+    for start in range(0, mesh.n_cells, chunk):
+        z = np.take(z_points, mesh.cells[start : start + chunk].T, mode="clip")
+        centres = z.sum(axis=0) / 5
+        local = z[1:] - z[0]
+        area = 0.5 * (local[:-1].conj() * local[1:]).imag.sum(axis=0)
+        i = np.minimum(((centres.real - lo[0]) / pixel).astype(np.int64), shape[0] - 1)
+        j = np.minimum(((centres.imag - lo[1]) / pixel).astype(np.int64), shape[1] - 1)
+        where = j * shape[0] + i
+        counts += np.bincount(where, minlength=counts.size)
+        areas += np.bincount(where, weights=area, minlength=counts.size)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        density = counts / areas
+    return np.ma.masked_invalid(np.where(counts > 0, density, np.nan)).reshape(shape[1], shape[0])
+
+
+def _plot_density(mesh, path: str | Path) -> Path:
+    """The cell density (cells per unit area) as a picture, with block outlines and patches."""
+    from matplotlib.collections import LineCollection
+    from matplotlib.colors import LogNorm
+
+    plt = pyplot()
+    lo, hi = _bounds(mesh.points)
+    extent = np.maximum(hi - lo, np.finfo(float).tiny)
+    # Pixels no smaller than the largest cells, so that every pixel inside holds a cell centre.
+    largest = max(_largest_area(mesh), 0.0)
+    pixel = max(float(extent.max()) / DENSITY_PIXELS, 1.5 * largest**0.5)
+    shape = np.maximum(np.ceil(extent / pixel).astype(np.int64), 1)  # (nx, ny)
+    fig, ax = plt.subplots(figsize=(8, 8))
+    image = ax.imshow(
+        _density_picture(mesh, pixel, shape),
+        origin="lower",
+        extent=(lo[0], lo[0] + shape[0] * pixel, lo[1], lo[1] + shape[1] * pixel),
+        cmap="viridis",
+        norm=LogNorm(),
+        interpolation="nearest",
+    )
+    fig.colorbar(image, ax=ax, shrink=0.7, label="cells per unit area")
+    if int(mesh.block_id.max(initial=0)) > int(mesh.block_id.min(initial=0)):
+        outline = mesh.points[_block_interfaces(mesh)]
+        ax.add_collection(LineCollection(outline, colors="w", linewidths=0.8))
+    _draw_patches(ax, mesh.points, mesh.boundary_edges, mesh.boundary_patch, mesh.patch_names)
+    ax.legend(title="patches", loc="upper left", bbox_to_anchor=(1.25, 1.0), fontsize=8)
+    _frame(
+        ax,
+        mesh.points,
+        f"{mesh.name or 'mesh'}, level {mesh.level}: {mesh.n_cells:,} cells, "
+        f"{mesh.n_points:,} nodes\ntoo many to draw one by one: cell density and block outlines",
+    )
+    return save_figure(fig, path)
+
+
+def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
+    """Histograms of the cells' interior angles and aspect ratios (diameter**2 / area).
+
+    O(M) in chunks; the aspect ratios of all cells are kept (8 bytes per cell) for their bins.
+    """
+    from .measures import cell_shapes
 
     plt = pyplot()
     angle_bins = np.linspace(0.0, 180.0, 91)
     angle_counts = np.zeros(angle_bins.size - 1)
     aspects = []
-    for start in range(0, mesh.n_cells, chunk):
-        xy = mesh.points[mesh.cells[start : start + chunk]]
-        angle_counts += np.histogram(interior_angles(xy), bins=angle_bins)[0]
-        diff = xy[:, :, None, :] - xy[:, None, :, :]
-        diam2 = np.max(np.einsum("mijk,mijk->mij", diff, diff), axis=(1, 2))
-        aspects.append(diam2 / signed_area(xy))
+    for angles, aspect in cell_shapes(mesh, chunk=chunk):
+        angle_counts += np.histogram(angles, bins=angle_bins)[0]
+        aspects.append(aspect)
     aspect = np.concatenate(aspects) if aspects else np.zeros(0)
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
     left.stairs(angle_counts, angle_bins, fill=True, color="#4c72b0")
@@ -205,7 +342,9 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 18) -> Path:
     left.set_xlabel("interior angle (degrees)")
     left.set_ylabel("corners")
     left.legend(fontsize=8)
-    right.hist(aspect, bins=60, color="#dd8452")
+    finite = aspect[np.isfinite(aspect)]
+    counts, bins = np.histogram(finite, bins=60) if finite.size else (np.zeros(1), [1.0, 2.0])
+    right.stairs(counts, bins, fill=True, color="#dd8452")
     right.axvline(1.52, color="k", lw=0.8, ls="--", label="regular pentagon (1.52)")
     right.set_xlabel("aspect ratio: diameter² / area")
     right.set_ylabel("cells")

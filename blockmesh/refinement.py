@@ -29,6 +29,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .blockplan import block_node_ids, place_block, plan_refinement
+from .blockplan import place_level as _place_level
 from .checks import choice, whole_number
 from .errors import ArgumentTypeError, ResourceError
 from .mesh import Mesh
@@ -187,54 +189,6 @@ def _global_ids(cells: np.ndarray, neighbour: np.ndarray, n_points: int, steps: 
     return ids, total
 
 
-#: Parent cells processed at once by :func:`_place_level`: small enough for the temporaries to
-#: stay in the CPU caches, large enough for numpy's per-call overhead not to matter.
-_PLACE_CHUNK = 8192
-
-
-def _place_level(local: np.ndarray, step, lo: int) -> None:
-    """Coordinates of the nodes new at one level, in every block's local numbering.
-
-    ``local`` holds one complex128 per local node and block, shape (B, n_L) (a point ``(x, y)`` as
-    ``x + iy``, which makes gathers and scatters several times faster than on (N, 2) rows). The
-    arithmetic runs on the float64 view, corner-major, and is the paper's:
-    ``u = (v_i + v_i+1) / 2``, ``p = (v1 + v2 + v3 + v4 + v5) / 5``, ``w = (u + p) / 2``; so the
-    results are bit for bit those of the paper's program. Parent cells go in chunks whose new
-    nodes are a contiguous run of the output, so the temporaries stay in cache.
-    """
-    n_blocks = local.shape[0]
-    n_parents = step.corners.shape[1]
-    for j0 in range(0, n_parents, _PLACE_CHUNK):
-        j1 = min(j0 + _PLACE_CHUNK, n_parents)
-        # (B, 5, 2c): corner-major, x/y interleaved. The template's indices are valid by
-        # construction; mode="clip" skips numpy's bounds check, which costs more than the gather.
-        corners = np.take(local, step.corners[:, j0:j1], axis=1, mode="clip").view(np.float64)
-        p = corners[:, 0] + corners[:, 1]
-        p += corners[:, 2]
-        p += corners[:, 3]
-        p += corners[:, 4]
-        p /= 5
-        new = np.empty((n_blocks, 2, *corners.shape[1:]), dtype=np.float64)  # [u, w]
-        u, w = new[:, 0], new[:, 1]
-        np.add(corners[:, :4], corners[:, 1:], out=u[:, :4])
-        np.add(corners[:, 4], corners[:, 0], out=u[:, 4])
-        u *= 0.5  # exact, as / 2
-        np.add(u, p[:, None, :], out=w)
-        w *= 0.5
-        # Slot 10 j + k of the chunk: u_k (k < 5) or w_(k-5) of parent j0 + j.
-        slots = np.ascontiguousarray(
-            new.view(np.complex128).reshape(n_blocks, 10, -1).swapaxes(1, 2)
-        )
-        first, last = np.searchsorted(step.source, (10 * j0, 10 * j1))
-        np.take(
-            slots.reshape(n_blocks, -1),
-            step.source[first:last] - 10 * j0,
-            axis=1,
-            out=local[:, lo + first : lo + last],
-            mode="clip",
-        )
-
-
 def refine(
     domain_or_mesh: Domain | Mesh,
     level: int,
@@ -306,7 +260,65 @@ def refine(
     return mesh
 
 
+#: Blocks are refined one at a time (reusing one block's working arrays, no global id table)
+#: from this many cells per block on; below it, all blocks at once with whole-array operations.
+_CELLS_PER_BLOCK_ONE_BY_ONE = 6**5
+
+
 def _build(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
+    single = (
+        base.n_cells == 1 and base.n_points == 5 and np.array_equal(base.cells[0], np.arange(5))
+    )
+    if smooth or single or 6**level < _CELLS_PER_BLOCK_ONE_BY_ONE:
+        return _build_all_blocks(base, neighbour, level, smooth, progress)
+    return _build_block_by_block(base, neighbour, level, progress)
+
+
+def _build_block_by_block(base: Mesh, neighbour: np.ndarray, level: int, progress) -> Mesh:
+    """Each block in turn: its node ids from the plan, its coordinates, its cells and boundary."""
+    plan = plan_refinement(base.cells, neighbour, base.n_points, level)
+    template = pentagon_template(level)
+    n_local, per_block = template.n_nodes, 6**level
+    points = np.empty(plan.n_nodes, dtype=np.complex128)
+    points[: base.n_points] = base.points.view(np.complex128)[:, 0]
+    cells = np.empty((base.n_cells * per_block, 5), dtype=np.int64)
+    local = np.empty(n_local, dtype=np.complex128)
+    ids = np.empty(n_local, dtype=np.int64)
+    corners = base.points.view(np.complex128)[:, 0]
+    bounds = [node_count(step) for step in range(level + 1)]
+    along = template.edge_nodes
+    cell, edge = np.divmod(
+        boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
+    )
+    boundary_nodes = np.empty((cell.size, along.shape[1]), dtype=np.int64)
+    for block in range(base.n_cells):
+        place_block(template, corners[base.cells[block]], local)
+        _, numbered = block_node_ids(plan, block, out=ids)
+        shares = plan.taken[block].any()
+        for step in range(1, level + 1):
+            lo, hi = bounds[step - 1], bounds[step]
+            start = int(plan.offsets[step, block])
+            target = points[start : start + int(plan.counts[step, block])]
+            # The nodes this block numbers, in its order (a lower block has the others).
+            if shares:
+                np.compress(numbered[lo:hi], local[lo:hi], out=target)
+            else:
+                target[:] = local[lo:hi]
+        np.take(
+            ids,
+            template.cells,
+            axis=0,
+            out=cells[block * per_block : (block + 1) * per_block],
+            mode="clip",
+        )
+        here = np.flatnonzero(cell == block)
+        boundary_nodes[here] = ids[along[edge[here]]]
+        if progress is not None:
+            progress(block + 1, base.n_cells)
+    return _assemble(base, boundary_nodes, points.view(np.float64).reshape(-1, 2), cells, level)
+
+
+def _build_all_blocks(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
     ids, n_nodes = _global_ids(base.cells, neighbour, base.n_points, level)
     template = pentagon_template(level)
     identity = ids is None
@@ -339,18 +351,20 @@ def _build(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress)
         cells = template.cells.copy()
     else:
         cells = np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5)
-    return _assemble(base, ids, neighbour, points, cells, level)
-
-
-def _assemble(base: Mesh, ids, neighbour, points, cells, steps: int) -> Mesh:
-    """The Mesh of the refined base; ``ids`` None means the template's own numbering."""
-    # Each boundary edge of the base splits into 2**steps edges, in the base's order.
-    along = pentagon_template(steps).edge_nodes
+    # Each boundary edge of the base splits into 2**level edges, in the base's order.
+    along = template.edge_nodes
     cell, edge = np.divmod(
         boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
     )
-    nodes = along[edge] if ids is None else ids[cell[:, None], along[edge]]
-    boundary_edges = np.stack([nodes[:, :-1], nodes[:, 1:]], axis=-1).reshape(-1, 2)
+    boundary_nodes = along[edge] if ids is None else ids[cell[:, None], along[edge]]
+    return _assemble(base, boundary_nodes, points, cells, level)
+
+
+def _assemble(base: Mesh, boundary_nodes, points, cells, steps: int) -> Mesh:
+    """The Mesh of the refined base; ``boundary_nodes`` (Eb, 2^steps + 1) along each base edge."""
+    boundary_edges = np.stack([boundary_nodes[:, :-1], boundary_nodes[:, 1:]], axis=-1).reshape(
+        -1, 2
+    )
     repeat = 6**steps
     n_cells = cells.shape[0]
     if steps == 0:

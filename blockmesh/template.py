@@ -28,12 +28,28 @@ Examples
 
 from __future__ import annotations
 
+import threading
+import weakref
+from collections import OrderedDict
 from dataclasses import dataclass
-from functools import cache
 
 import numpy as np
 
-__all__ = ["CHILD_PATTERN", "LevelStep", "PentagonTemplate", "node_count", "pentagon_template"]
+__all__ = [
+    "CHILD_PATTERN",
+    "TEMPLATE_CACHE_BYTES",
+    "LevelStep",
+    "PentagonTemplate",
+    "cached_template_bytes",
+    "node_count",
+    "pentagon_template",
+    "template_is_alive",
+]
+
+#: Templates kept for reuse after their refinement returns, at most this many bytes in all
+#: (least recently used first out). A bigger template lives only while something uses it: a
+#: level-10 template is about 3.7 GB, which a process should not keep after its mesh is made.
+TEMPLATE_CACHE_BYTES = 192 * 2**20
 
 #: Child ``k`` of a cell ``<v0..v4>`` with midpoints ``u`` and inner points ``w`` (paper eq. 1a):
 #: ``<v_k, u_k, w_k, w_(k-1), u_(k-1)>`` for k = 0..4, then ``<w_0..w_4>``. Entries index the
@@ -116,6 +132,13 @@ class PentagonTemplate:
         """Number of local nodes ``n_L``."""
         return node_count(self.level)
 
+    @property
+    def nbytes(self) -> int:
+        """Bytes held by the template's arrays."""
+        arrays = [self.cells, self.edge_nodes, self.edge_of_node]
+        arrays += [a for step in self.steps for a in (step.corners, step.source)]
+        return sum(a.nbytes for a in arrays)
+
 
 def _readonly(a: np.ndarray) -> np.ndarray:
     a.setflags(write=False)
@@ -182,12 +205,75 @@ def _refine_step(parents, neighbour, boundary, n_old, *, want_neighbours):
     return cells, seg_mids, new_boundary, child_neighbour, step
 
 
-@cache
-def pentagon_template(level: int) -> PentagonTemplate:
-    """The reference pentagon refined ``level`` times (cached for the life of the process).
+class _TemplateCache:
+    """Least-recently-used templates up to :data:`TEMPLATE_CACHE_BYTES`, plus weak references.
 
-    Cost: O(6^L) time and memory, once per level per process; the cache holds the cells of each
-    level built (about 1.2 times the finest level's cells).
+    Templates over the budget are found again while they are alive (e.g. while several blocks or
+    workers' tasks of one refinement use them) and freed with their last user.
+    """
+
+    def __init__(self) -> None:
+        self._kept: OrderedDict[int, PentagonTemplate] = OrderedDict()
+        self._alive: weakref.WeakValueDictionary[int, PentagonTemplate] = (
+            weakref.WeakValueDictionary()
+        )
+        self._lock = threading.Lock()
+
+    def get(self, level: int) -> PentagonTemplate | None:
+        with self._lock:
+            found = self._kept.get(level)
+            if found is not None:
+                self._kept.move_to_end(level)
+                return found
+            return self._alive.get(level)
+
+    def put(self, template: PentagonTemplate) -> None:
+        with self._lock:
+            self._alive[template.level] = template
+            if template.nbytes > TEMPLATE_CACHE_BYTES:
+                return
+            self._kept[template.level] = template
+            while sum(t.nbytes for t in self._kept.values()) > TEMPLATE_CACHE_BYTES:
+                self._kept.popitem(last=False)
+
+    def kept_bytes(self) -> int:
+        """Bytes the cache keeps alive by itself."""
+        with self._lock:
+            return sum(t.nbytes for t in self._kept.values())
+
+
+_CACHE = _TemplateCache()
+
+
+def cached_template_bytes() -> int:
+    """Bytes of templates the cache keeps alive by itself (at most TEMPLATE_CACHE_BYTES).
+
+    Examples
+    --------
+    >>> cached_template_bytes() <= TEMPLATE_CACHE_BYTES
+    True
+    """
+    return _CACHE.kept_bytes()
+
+
+def template_is_alive(level: int) -> bool:
+    """Whether the template of ``level`` is in memory now (cached, or in use somewhere).
+
+    Examples
+    --------
+    >>> _ = pentagon_template(2)
+    >>> template_is_alive(2)
+    True
+    """
+    return _CACHE.get(level) is not None
+
+
+def pentagon_template(level: int) -> PentagonTemplate:
+    """The reference pentagon refined ``level`` times (cached, within a memory budget).
+
+    Cost: O(6^L) time and about 62 bytes per cell of memory, once per level while cached; the
+    cache keeps at most :data:`TEMPLATE_CACHE_BYTES` (levels up to 8 fit), bigger templates
+    are rebuilt when needed again after their last user let them go.
 
     Examples
     --------
@@ -197,6 +283,14 @@ def pentagon_template(level: int) -> PentagonTemplate:
     """
     if level < 0:
         raise ValueError(f"level must be >= 0, got {level}")
+    found = _CACHE.get(level)
+    if found is None:
+        found = _build_template(level)
+        _CACHE.put(found)
+    return found
+
+
+def _build_template(level: int) -> PentagonTemplate:
     cells = np.arange(5, dtype=np.int64).reshape(1, 5)
     neighbour = np.full((1, 5), -1, dtype=np.int64)
     boundary = (np.zeros((5, 1), dtype=np.int64), np.arange(5, dtype=np.int64)[:, None])

@@ -9,7 +9,7 @@ from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any
 
-from ..errors import BlockMeshWarning, ResourceError
+from ..errors import BlockMeshError, BlockMeshWarning, ResourceError
 from ..exact import exact_integral
 from ..mesh import Mesh
 from ..quadrature import (
@@ -19,6 +19,7 @@ from ..quadrature import (
     integrate_with_estimate,
 )
 from ._common import add_domain_arguments, print_json, printable, resolve_target
+from ._partitions import add_partition_arguments, check_partition_arguments
 
 __all__ = ["register", "run"]
 
@@ -94,6 +95,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="most evaluations of f (default 1,000,000,000; with --tol 200,000,000): larger "
         "requests are refused before any work",
     )
+    add_partition_arguments(parser, "integrate")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
 
@@ -116,6 +118,10 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
     limits: dict[str, int] = {} if args.max_points is None else {"max_points": args.max_points}
     try:
         if args.tol is not None:
+            if check_partition_arguments(args):
+                raise BlockMeshError(
+                    "--partitions integrates at one --level and --order; it does not take --tol"
+                )
             return integrate_to_tolerance(
                 target,
                 args.function,
@@ -127,6 +133,14 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 exact_geometry=args.exact_geometry,
                 **limits,
             )
+        if check_partition_arguments(args):  # each worker integrates over its partition
+            from ..distributed import integrate_with_estimate as integrate_partitions
+
+            return integrate_partitions(
+                target, args.function, order=_DEFAULT_ORDER if args.order is None else args.order,
+                level=_level(args, target), rule=args.rule or "paper", partitions=args.partitions,
+                workers=args.workers, scheduler=args.scheduler, max_points=args.max_points,
+            )  # fmt: skip
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BlockMeshWarning)  # printed below, with the options
             return integrate_with_estimate(

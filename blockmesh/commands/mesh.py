@@ -8,19 +8,23 @@ domain that fails is reported and does not stop the others; the exit code is the
 from __future__ import annotations
 
 import argparse
+import contextlib
 import glob
 import os
 import sys
 import time
+from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
 from typing import Any
 
 from ..domain import Domain
-from ..errors import BlockMeshError
+from ..errors import BlockMeshError, ResourceError
 from ..improve import QUALITY_RULES, refine_with_rule
 from ..io import SPLITS, check_options, format_for_path
+from ..memory import check_fits, mesh_command_predictor, process_rss
 from ..mesh import Mesh
-from ..refinement import NUMBERINGS, refine
+from ..refinement import NUMBERINGS, available_memory, format_bytes, refine
 from ._common import (
     ProgressBar,
     add_domain_arguments,
@@ -32,6 +36,8 @@ from ._common import (
     print_json,
     printable,
 )
+from ._partitions import add_partition_arguments, check_partition_arguments
+from ._progress import StageProgress
 
 #: The level meshed when none is given (as ``blockmesh integrate``).
 DEFAULT_LEVEL = 2
@@ -102,37 +108,92 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="SIZE",
         help="refuse meshes predicted to need more memory (e.g. 4G; default: what is available)",
     )
+    add_partition_arguments(
+        parser, "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
 
 
 # ---------------------------------------------------------------------------- one domain
+def _export_key(options: dict[str, Any], output: str | None):
+    if not output:
+        return None
+    fmt = format_for_path(output, options["format"])
+    chosen = check_options(fmt, split=options["split"], compression=options["compression"])
+    return fmt.name, chosen.get("split"), chosen.get("compression", fmt.default_compression)
+
+
+def _check_memory(target: Domain | Mesh, options: dict[str, Any], output: str | None):
+    """The whole command's predicted peak; ResourceError before anything big is allocated."""
+    predict = mesh_command_predictor(
+        target,
+        numbering=options["numbering"],
+        smooth=options["smooth"],
+        export=_export_key(options, output),
+        plot=bool(options["plot"]),
+        quality_plot=bool(options["quality_plot"]),
+    )
+    given = options["max_memory"]
+    limit = given if given is not None else available_memory() + process_rss()
+    return check_fits(
+        predict,
+        options["level"],
+        limit,
+        what=target.name or "the mesh",
+        offset=target.level if isinstance(target, Mesh) else 0,
+        source="--max-memory" if given is not None else "the memory available now",
+    )
+
+
+@contextlib.contextmanager
+def _stage(progress: StageProgress, label: str, prediction) -> Iterator[Callable[[int, int], None]]:
+    """A stage of the command: its progress line, and MemoryError as a located ResourceError."""
+    try:
+        with progress.stage(label) as tick:
+            yield tick
+    except MemoryError:
+        raise ResourceError(
+            f"ran out of memory while {label} (the command was predicted to need about "
+            f"{format_bytes(prediction.peak_bytes)} at level {prediction.level}); other programs "
+            "may be using memory: free some, or try a lower level"
+        ) from None
+
+
 def _mesh_one(
-    target: Domain | Mesh, options: dict[str, Any], output: str | None, progress=None
+    target: Domain | Mesh,
+    options: dict[str, Any],
+    output: str | None,
+    progress: StageProgress | None = None,
 ) -> dict[str, Any]:
     """Mesh, draw and write one domain (or refine a mesh further); the JSON-ready report."""
+    progress = progress or StageProgress("", enabled=False)
+    prediction = _check_memory(target, options, output)
     started = time.perf_counter()
-    mesh = refine(
-        target,
-        options["level"] if options["quality_rule"] == "paper" else 0,
-        smooth=options["smooth"],
-        max_memory=options["max_memory"],
-        progress=progress,
-    )
-    if options["quality_rule"] != "paper":
-        mesh = refine_with_rule(
-            mesh,
-            options["level"],
-            rule=options["quality_rule"],
+    with _stage(progress, "refining", prediction) as tick:
+        mesh = refine(
+            target,
+            options["level"] if options["quality_rule"] == "paper" else 0,
             smooth=options["smooth"],
             max_memory=options["max_memory"],
+            progress=tick,
         )
+        if options["quality_rule"] != "paper":
+            mesh = refine_with_rule(
+                mesh,
+                options["level"],
+                rule=options["quality_rule"],
+                smooth=options["smooth"],
+                max_memory=options["max_memory"],
+            )
     seconds = time.perf_counter() - started
-    bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
+    with _stage(progress, "measuring the cells", prediction) as tick:
+        bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
+        quality = mesh.quality(progress=tick)
     if options["numbering"] == "rcm":
-        mesh = mesh.with_rcm_numbering()
-        bandwidth["rcm"] = mesh.bandwidth()
-    quality = mesh.quality()
+        with _stage(progress, "renumbering (reverse Cuthill-McKee)", prediction):
+            mesh = mesh.with_rcm_numbering()
+            bandwidth["rcm"] = mesh.bandwidth()
     if quality.not_strictly_convex:
         mesh.check_geometry()  # names the first broken cell; never report a broken mesh as made
     report = {
@@ -149,6 +210,7 @@ def _mesh_one(
         "smooth": options["smooth"],
         "quality_rule": options["quality_rule"],
         "seconds": seconds,
+        "predicted_peak_bytes": prediction.peak_bytes,
         "plot": None,
         "quality_plot": None,
         "output": None,
@@ -156,23 +218,27 @@ def _mesh_one(
     if options["plot"]:
         from ..plot import plot_mesh
 
-        report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], mesh)))
+        with _stage(progress, "drawing the mesh", prediction):
+            report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], mesh)))
     if options["quality_plot"]:
         from ..plot import plot_quality
 
-        report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
+        with _stage(progress, "drawing the quality histograms", prediction):
+            report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
     if output:
         from ..io import write
 
-        report["output"] = str(
-            write(
-                mesh,
-                _fill(output, mesh),
-                format=options["format"],
-                split=options["split"],
-                compression=options["compression"],
+        target_path = _fill(output, mesh)
+        with _stage(progress, f"writing {target_path}", prediction):
+            report["output"] = str(
+                write(
+                    mesh,
+                    target_path,
+                    format=options["format"],
+                    split=options["split"],
+                    compression=options["compression"],
+                )
             )
-        )
     return report
 
 
@@ -204,7 +270,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _print_report(report: dict[str, Any]) -> None:
+def _print_report(report: dict[str, Any], done: str = "refined") -> None:
     q = report["quality"]
     print(
         f"{printable(report['domain'])}: level {report['level']}, {report['cells']:,} cells, "
@@ -220,10 +286,115 @@ def _print_report(report: dict[str, Any]) -> None:
     line = f"  bandwidth {bandwidth['nested']:,} (nested)"
     if bandwidth["rcm"] is not None:
         line += f" -> {bandwidth['rcm']:,} (reverse Cuthill-McKee)"
-    print(line + f"; refined in {report['seconds']:.3f} s")
+    print(line + f"; {done} in {report['seconds']:.3f} s")
     for key, label in (("plot", "plot"), ("quality_plot", "quality plot"), ("output", "mesh")):
         if report[key]:
             print(f"  wrote {label} {report[key]}")
+
+
+# ---------------------------------------------------------------------------- partitioned
+_NOT_PARTITIONED = {
+    "plot": "--plot",
+    "quality_plot": "--quality-plot",
+    "format": "--format",
+    "split": "--split",
+    "compression": "--compression",
+}
+
+
+def _partitioned_options(args: argparse.Namespace) -> None:
+    if args.scheduler is not None and args.max_memory is not None:
+        raise BlockMeshError(
+            "--max-memory sets the local workers' memory limit; with --scheduler the workers' "
+            "own limits apply"
+        )
+    if args.level < 1:
+        raise BlockMeshError(f"--partitions needs --level 1 or more, got {args.level}")
+    if args.numbering != "nested" or args.smooth or args.quality_rule != "paper":
+        raise BlockMeshError(
+            "--partitions makes the paper's mesh: nested numbering, no smoothing, the paper's "
+            "quality rule"
+        )
+    for key, flag in _NOT_PARTITIONED.items():
+        if getattr(args, key):
+            raise BlockMeshError(
+                f"{flag} is not available with --partitions: the workers write their pieces as "
+                ".vtu (index OUT.pvtu) or .h5 (index OUT.xdmf)"
+            )
+    if not args.output or Path(args.output).suffix.lower() not in (".pvtu", ".xdmf"):
+        raise BlockMeshError(
+            "--partitions writes the mesh as pieces: give -o OUT.pvtu (ParaView's parallel VTU) "
+            "or -o OUT.xdmf (an XDMF collection of HDF5 pieces)"
+        )
+    check_folders(args.output)
+
+
+def _run_partitioned(args: argparse.Namespace) -> int:
+    """``blockmesh mesh DOMAIN --partitions P [--workers N | --scheduler ADDRESS] -o OUT.pvtu``."""
+    _partitioned_options(args)
+    if args.polygon is not None:
+        if args.domain:
+            raise BlockMeshError("give either DOMAIN or --polygon, not both")
+        target: Domain | Mesh = inline_polygon(args.polygon, args.hole)
+    else:
+        if len(args.domain or []) != 1:
+            raise BlockMeshError("--partitions meshes one domain at a time")
+        target = load_target(args.domain[0])
+    from .. import distributed
+    from ..distributed.files import pieces_dir
+
+    level = target.level + args.level if isinstance(target, Mesh) else args.level
+    output = fill_template(args.output, name=target.name or "mesh", level=level)
+    progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
+    parts = distributed.partition(target, args.level, args.partitions)
+    predicted = max(distributed.predict_task_bytes(parts, p) for p in range(parts.n_partitions))
+    label = f"making {args.partitions} pieces on Dask workers"
+    with progress.stage(label) as tick:
+        made = distributed.refine_to(
+            target,
+            args.level,
+            output,
+            partitions=args.partitions,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            memory_limit=args.max_memory,
+            progress=tick,
+        )
+    report = {
+        "domain": target.name,
+        "level": made.level,
+        "nodes": made.nodes,
+        "cells": made.cells,
+        "edges": (5 * made.cells + made.boundary_edges) // 2,
+        "boundary_edges": made.boundary_edges,
+        "area": made.area,
+        "quality": made.quality.as_dict(),
+        "bandwidth": {"nested": made.bandwidth, "rcm": None},
+        "numbering": "nested",
+        "smooth": 0,
+        "seconds": made.seconds,
+        "predicted_peak_bytes": predicted,
+        "plot": None,
+        "quality_plot": None,
+        "output": str(made.path),
+        "partitions": len(made.pieces),
+        "pieces": [str(p) for p in made.pieces],
+        "workers": made.workers,
+        "bytes_written": made.bytes_written,
+        "array_bytes": made.array_bytes,
+        "worker_peak_bytes": made.worker_peak_bytes,
+    }
+    if args.json:
+        print_json(report)
+        return 0
+    _print_report({**report, "output": None}, done="made and written by the workers")
+    print(
+        f"  wrote {printable(output)} and {report['partitions']} pieces in "
+        f"{printable(str(pieces_dir(Path(output))))} ({format_bytes(made.bytes_written)}; arrays "
+        f"{format_bytes(made.array_bytes)}) on {made.workers} workers; largest worker peak "
+        f"{format_bytes(made.worker_peak_bytes)} (predicted {format_bytes(predicted)})"
+    )
+    return 0
 
 
 # ---------------------------------------------------------------------------- many domains
@@ -295,6 +466,8 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh mesh`` with the parsed ``args``; returns the exit code."""
+    if check_partition_arguments(args):
+        return _run_partitioned(args)
     options = _options(args)
     if args.polygon is not None:
         if args.domain:
@@ -317,8 +490,8 @@ def run(args: argparse.Namespace) -> int:
         if args.polygon is not None
         else load_target(domains[0])
     )
-    bar = ProgressBar(f"{printable(target.name)}: refining", enabled=ProgressBar.wanted(args))
-    report = _mesh_one(target, options, args.output, progress=bar)
+    progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
+    report = _mesh_one(target, options, args.output, progress=progress)
     if args.json:
         print_json(report)
     else:

@@ -1,0 +1,591 @@
+"""Meshes beyond one machine: partitioned refinement, output and integration on Dask.
+
+A mesh too big for one machine's memory is made partition by partition on the workers of a Dask
+cluster (``pip install 'blockmesh[distributed]'``): each partition is a group of whole blocks
+(or of whole cells of a coarser level, :mod:`~blockmesh.distributed.partition`), each worker
+builds its piece from a small numbering plan without talking to the others
+(:mod:`~blockmesh.distributed.pieces`), writes it, and sends back only counts, quality extremes
+and checksums. Nothing gathers the mesh on the client.
+
+- :func:`refine_to` writes ``out.pvtu`` (ParaView's parallel VTU, with ``GlobalNodeIds`` and
+  ghost marks) or ``out.xdmf`` (an XDMF spatial collection of HDF5 pieces), pieces in
+  ``out.pvtu.pieces/`` (or ``out.xdmf.pieces/``);
+- :func:`integrate` and :func:`integrate_with_estimate` sum the integrals of the partitions;
+- :func:`gather` reads a partitioned mesh back into one :class:`~blockmesh.mesh.Mesh` (for meshes
+  that fit): it equals the serial :func:`blockmesh.refine` result array for array, bit for bit.
+
+Without ``client`` a local cluster of one single-threaded worker process per core is started (and
+stopped afterwards); ``scheduler="tcp://host:8786"`` connects to a running cluster instead, whose
+workers must see the output folder (a shared file system). Dask is imported only here, when used.
+
+Examples
+--------
+>>> import pathlib, tempfile, blockmesh
+>>> import blockmesh.distributed as bd
+>>> domain = blockmesh.load_domain("joined-2")
+>>> out = pathlib.Path(tempfile.mkdtemp()) / "j2.pvtu"
+>>> made = bd.refine_to(domain, 2, out, partitions=2, workers=1)  # doctest: +SKIP
+>>> made.cells, [p.name for p in made.pieces]  # doctest: +SKIP
+(72, ['j2_0000.vtu', 'j2_0001.vtu'])
+>>> bool((bd.gather(out).points == blockmesh.refine(domain, 2).points).all())  # doctest: +SKIP
+True
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import os
+import shutil
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..atomic import atomic_file, check_target
+from ..checks import whole_number
+from ..errors import ArgumentError, ExportError, ResourceError
+from ..mesh import Mesh, MeshQuality
+from ..template import node_count
+from .files import (
+    INDEX_SUFFIXES,
+    piece_name,
+    pieces_dir,
+    read_piece,
+    read_pieces,
+    write_pvtu_index,
+    write_xdmf_index,
+)
+from .partition import Partitioning, partition
+from .pieces import piece_node_count
+from .tasks import integrate_piece_task, write_piece_task
+
+if TYPE_CHECKING:
+    from ..domain import Domain
+
+__all__ = [
+    "PartitionedMesh",
+    "Partitioning",
+    "dask_client",
+    "gather",
+    "integrate",
+    "integrate_with_estimate",
+    "partition",
+    "predict_task_bytes",
+    "refine_to",
+]
+
+#: Resident bytes of a worker process with blockmesh imported, before its first piece (measured
+#: 75-110 MB on this project's machine).
+WORKER_BASE_BYTES = 120 * 10**6
+_ENVIRON_KEY = "distributed.nanny.pre-spawn-environ"
+#: Share of a worker's memory limit a task may use: Dask pauses a worker at 80 %.
+_WORKER_SHARE = 0.75
+
+ProgressCallback = Callable[[int, int], None]
+
+
+@dataclass(frozen=True)
+class PartitionedMesh:
+    """What :func:`refine_to` made: the index, its pieces and the summary of the whole mesh.
+
+    Attributes
+    ----------
+    path : Path
+        The index (``.pvtu`` or ``.xdmf``).
+    pieces : tuple of Path
+    level, cells, nodes, boundary_edges : int
+    area : float
+    quality : MeshQuality
+        Combined from the pieces' extremes (exactly what the whole mesh's quality is).
+    bandwidth : int
+        Of the nested (serial) numbering.
+    seconds : float
+    workers : int
+    summaries : tuple of dict
+        What each task returned (counts, checksums, bytes, seconds, worker, peak memory).
+    """
+
+    path: Path
+    pieces: tuple[Path, ...]
+    level: int
+    cells: int
+    nodes: int
+    boundary_edges: int
+    area: float
+    quality: MeshQuality
+    bandwidth: int
+    seconds: float
+    workers: int
+    summaries: tuple[dict[str, Any], ...]
+
+    @property
+    def bytes_written(self) -> int:
+        """Bytes of all pieces."""
+        return sum(int(s["bytes"]) for s in self.summaries)
+
+    @property
+    def array_bytes(self) -> int:
+        """Bytes of the pieces' arrays in memory (mesh arrays, global ids, ghost marks)."""
+        return sum(int(s["array_bytes"]) for s in self.summaries)
+
+    @property
+    def worker_peak_bytes(self) -> int:
+        """The highest peak resident memory a worker reported."""
+        return max(int(s["peak_rss"]) for s in self.summaries)
+
+
+def _distributed():
+    try:
+        import dask.distributed
+    except ImportError:
+        raise ResourceError(
+            "partitioned meshing runs on Dask, which is not installed: "
+            "pip install 'blockmesh[distributed]' (or pip install 'dask[distributed]')"
+        ) from None
+    return dask.distributed
+
+
+@contextlib.contextmanager
+def dask_client(
+    client: Any = None,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    memory_limit: int | str | None = None,
+) -> Iterator[Any]:
+    """A Dask client: ``client`` itself, one connected to ``scheduler``, or a local cluster's.
+
+    The local cluster has ``workers`` single-threaded worker processes (default: one per core),
+    each with ``memory_limit`` bytes (default: the machine's memory shared out), and is closed at
+    the end of the block.
+    """
+    if client is not None:
+        yield client
+        return
+    if workers is not None and scheduler is not None:
+        raise ArgumentError(
+            "give workers= (a local cluster) or scheduler= (a running one), not both"
+        )
+    distributed = _distributed()
+    if scheduler is not None:
+        try:
+            remote = distributed.Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError) as error:
+            raise ResourceError(
+                f"cannot reach the Dask scheduler at {scheduler}: {error}"
+            ) from None
+        try:
+            yield remote
+        finally:
+            remote.close()
+        return
+    n = whole_number(workers, "workers", minimum=1) if workers is not None else _cores()
+    import dask
+
+    # Dask starts workers with MALLOC_TRIM_THRESHOLD_ set, which also fixes glibc's mmap
+    # threshold at 128 KB: every temporary of the chunked loops is then mapped and unmapped
+    # afresh, and faulted in page by page (4-20x slower on this project's machine). The workers
+    # get glibc's own adaptive thresholds, as any Python process has.
+    environ = {
+        key: value
+        for key, value in dask.config.get(_ENVIRON_KEY, {}).items()
+        if not key.startswith("MALLOC_")
+    }
+    with dask.config.set({_ENVIRON_KEY: environ}):
+        cluster = distributed.LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            memory_limit=memory_limit if memory_limit is not None else "auto",
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+        )
+    local = distributed.Client(cluster)
+    try:
+        yield local
+    finally:
+        local.close()
+        cluster.close()
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def _worker_limits(client: Any) -> list[int]:
+    info = client.scheduler_info()
+    workers = info.get("workers", {}).values()
+    return [int(w.get("memory_limit") or 0) for w in workers]
+
+
+def predict_task_bytes(parts: Partitioning, piece: int) -> int:
+    """Peak resident bytes of a worker while it builds and writes partition ``piece``.
+
+    An idle worker (:data:`WORKER_BASE_BYTES`), the piece's arrays (coordinates, global ids and
+    ghost marks per node; cells, block, parent and region per cell; boundary edges), one unit's
+    working arrays and the template of the remaining levels. The writers stream in chunks.
+    """
+    nodes = piece_node_count(parts, piece)
+    cells = parts.cells(piece)
+    boundary = 2**parts.steps * int(
+        np.count_nonzero(
+            (parts.boundary_unit >= parts.starts[piece])
+            & (parts.boundary_unit < parts.starts[piece + 1])
+        )
+    )
+    arrays = 33 * nodes + 64 * cells + 32 * boundary
+    working = 25 * node_count(parts.steps) + 62 * 6**parts.steps
+    return WORKER_BASE_BYTES + arrays + working
+
+
+def _check_workers(parts: Partitioning, client: Any) -> None:
+    limits = [limit for limit in _worker_limits(client) if limit > 0]
+    if not limits:
+        return
+    limit = min(limits)
+    from ..refinement import format_bytes
+
+    needs = [predict_task_bytes(parts, p) for p in range(parts.n_partitions)]
+    worst = int(np.argmax(needs))
+    if needs[worst] <= _WORKER_SHARE * limit:
+        return
+    per_partition = needs[worst] - WORKER_BASE_BYTES
+    room = _WORKER_SHARE * limit - WORKER_BASE_BYTES
+    advice = (
+        f"use at least {math.ceil(parts.n_partitions * per_partition / room)} partitions"
+        if room > 0
+        else "give the workers more memory"
+    )
+    raise ResourceError(
+        f"partition {worst} of {parts.n_partitions} needs about {format_bytes(needs[worst])} on "
+        f"its worker, more than {_WORKER_SHARE:.0%} of a worker's memory limit "
+        f"({format_bytes(limit)}); {advice}"
+    )
+
+
+def _index_of(path: str | os.PathLike[str]) -> Path:
+    index = Path(path).absolute()
+    if index.suffix.lower() not in INDEX_SUFFIXES:
+        raise ExportError(
+            f"cannot write a partitioned mesh to {index}: the index must be a .pvtu (ParaView "
+            "parallel VTU) or an .xdmf file (XDMF collection of HDF5 pieces)"
+        )
+    check_target(index)
+    return index
+
+
+def _run_tasks(futures: list[Any], progress: ProgressCallback | None) -> list[Any]:
+    distributed = _distributed()
+    results: list[Any] = [None] * len(futures)
+    where = {future.key: k for k, future in enumerate(futures)}
+    try:
+        for done, future in enumerate(distributed.as_completed(futures), start=1):
+            results[where[future.key]] = future.result()
+            if progress is not None:
+                progress(done, len(futures))
+    except MemoryError:
+        raise ResourceError(
+            "a worker ran out of memory; use more partitions or give the workers more memory"
+        ) from None
+    except distributed.KilledWorker as error:
+        raise ResourceError(
+            f"a worker died running {error.task!r} (most likely over its memory limit); use more "
+            "partitions or give the workers more memory"
+        ) from None
+    finally:
+        for future in futures:
+            future.cancel()
+    return results
+
+
+def _combine(parts: Partitioning, summaries: list[dict[str, Any]]) -> tuple[float, MeshQuality]:
+    if (
+        sum(s["cells"] for s in summaries) != parts.n_cells
+        or sum(s["owned_nodes"] for s in summaries) != parts.n_nodes
+    ):
+        raise ExportError(
+            "the pieces do not add up to the mesh (cells or owned nodes); the output is not kept"
+        )
+    m = [s["measures"] for s in summaries]
+    min_area = min(x["min_area"] for x in m)
+    max_area = max(x["max_area"] for x in m)
+    quality = MeshQuality(
+        min(x["min_angle"] for x in m),
+        max(x["max_angle"] for x in m),
+        max(x["max_aspect_ratio"] for x in m),
+        min_area,
+        max_area,
+        min_area / max_area if max_area > 0 else 0.0,
+        sum(x["not_strictly_convex"] for x in m),
+    )
+    return math.fsum(x["area"] for x in m), quality
+
+
+def _commit(folder: Path, index: Path, write_index: Callable[[Path], Any]) -> None:
+    """Put the finished pieces folder and the index in place; old ones go only on success."""
+    target = pieces_dir(index)
+    old = None
+    if target.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=index.parent))
+        os.rmdir(old)
+        os.rename(target, old)
+    try:
+        os.chmod(folder, 0o777 & ~_umask())
+        os.rename(folder, target)
+        with atomic_file(index) as temporary:
+            write_index(temporary)
+    except BaseException:
+        if target.exists():
+            shutil.rmtree(target, ignore_errors=True)
+        if old is not None:
+            os.rename(old, target)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def _umask() -> int:
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except OSError:
+        pass
+    return 0o022
+
+
+def refine_to(
+    target: Domain | Mesh,
+    level: int,
+    path: str | os.PathLike[str],
+    *,
+    partitions: int | None = None,
+    client: Any = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    memory_limit: int | str | None = None,
+    progress: ProgressCallback | None = None,
+) -> PartitionedMesh:
+    """Refine ``target`` to ``level`` on a Dask cluster, writing one piece per partition.
+
+    Parameters
+    ----------
+    target : Domain or Mesh
+    level : int
+        Levels of refinement (>= 1), as :func:`blockmesh.refine`.
+    path : str or PathLike
+        The index: ``out.pvtu`` (VTU pieces) or ``out.xdmf`` (HDF5 pieces); the pieces go to
+        ``out.pvtu.pieces/`` (``out.xdmf.pieces/``). Written only when every piece is: a
+        failure leaves nothing new.
+    partitions : int, optional
+        Number of pieces (default: one per worker).
+    client : dask.distributed.Client, optional
+        Use this client; otherwise ``scheduler`` or a local cluster (see :func:`dask_client`).
+    workers, scheduler, memory_limit
+        For the cluster :func:`dask_client` makes.
+    progress : callable, optional
+        ``progress(done, total)`` after each piece.
+
+    Raises
+    ------
+    ResourceError
+        When Dask is missing, a partition would not fit in a worker's memory limit (naming it
+        and how many partitions would fit), or a worker runs out of memory.
+    ExportError
+        For an index that is not ``.pvtu``/``.xdmf`` or a missing folder.
+    """
+    index = _index_of(path)
+    started = time.perf_counter()
+    with dask_client(
+        client, workers=workers, scheduler=scheduler, memory_limit=memory_limit
+    ) as active:
+        n_workers = len(active.scheduler_info().get("workers", {})) or 1
+        parts = partition(target, level, partitions if partitions is not None else n_workers)
+        _check_workers(parts, active)
+        folder = Path(
+            tempfile.mkdtemp(prefix=f".{pieces_dir(index).name}.", suffix=".tmp", dir=index.parent)
+        )
+        try:
+            scattered = active.scatter(parts, broadcast=True, hash=False)
+            futures = [
+                active.submit(write_piece_task, scattered, p, str(folder), index.name, pure=False)
+                for p in range(parts.n_partitions)
+            ]
+            summaries = _run_tasks(futures, progress)
+            area, quality = _combine(parts, summaries)
+            names = [piece_name(index, p) for p in range(parts.n_partitions)]
+            sources = [f"{pieces_dir(index).name}/{name}" for name in names]
+            meta = {
+                "blockmesh_partitioned": 1,
+                "name": parts.base.name,
+                "level": parts.base.level + parts.steps,
+                "patch_names": list(parts.base.patch_names),
+                "region_names": list(parts.base.region_names),
+                "pieces": parts.n_partitions,
+                "cells_total": parts.n_cells,
+                "nodes_total": parts.n_nodes,
+            }
+            if index.suffix.lower() == ".pvtu":
+                _commit(folder, index, lambda tmp: write_pvtu_index(tmp, sources, meta))
+            else:
+                _commit(folder, index, lambda tmp: write_xdmf_index(tmp, sources, summaries, meta))
+        finally:
+            if folder.exists():
+                shutil.rmtree(folder, ignore_errors=True)
+    return PartitionedMesh(
+        path=index,
+        pieces=tuple(pieces_dir(index) / name for name in names),
+        level=parts.base.level + parts.steps,
+        cells=parts.n_cells,
+        nodes=parts.n_nodes,
+        boundary_edges=sum(s["boundary_edges"] for s in summaries),
+        area=area,
+        quality=quality,
+        bandwidth=max(s["bandwidth"] for s in summaries),
+        seconds=time.perf_counter() - started,
+        workers=n_workers,
+        summaries=tuple(summaries),
+    )
+
+
+def integrate_with_estimate(
+    target: Domain | Mesh,
+    function: Any,
+    *,
+    order: int,
+    level: int | None = None,
+    rule: str = "paper",
+    partitions: int | None = None,
+    client: Any = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    max_points: int | None = None,
+    progress: ProgressCallback | None = None,
+) -> Any:
+    """The integral over ``target`` at ``level``, partition by partition, with its estimate.
+
+    Each worker builds its piece and integrates over it with
+    :func:`blockmesh.quadrature.integrate_with_estimate` (``order``, ``rule`` as there); the
+    client adds the values (``math.fsum``: the serial value to round-off) and the error
+    estimates, and the result has converged when every partition's has. ``level`` is as for
+    :func:`blockmesh.integrate`: a Domain's refinement level, or for a Mesh the level to reach
+    (above its own). ``function`` must be picklable: an expression string, or a function defined
+    at module level. ``max_points`` bounds the evaluations of the whole integral.
+
+    Returns
+    -------
+    IntegrationResult
+    """
+    from ..quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
+    from ..refinement import format_count
+
+    if level is None:
+        steps = 0
+    elif isinstance(target, Mesh):
+        steps = whole_number(level, "level") - target.level
+    else:
+        steps = whole_number(level, "level")
+    budget = DEFAULT_MAX_POINTS if max_points is None else whole_number(max_points, "max_points")
+    with dask_client(client, workers=workers, scheduler=scheduler) as active:
+        n_workers = len(active.scheduler_info().get("workers", {})) or 1
+        parts = partition(target, steps, partitions if partitions is not None else n_workers)
+        info = rule_info(rule, order)
+        points = parts.n_cells * info.points_per_cell
+        if points > budget:
+            raise ResourceError(
+                f"{format_count(points)} evaluations of f are more than max_points "
+                f"({format_count(budget)}); lower the level or the order, or raise max_points"
+            )
+        _check_workers(parts, active)
+        scattered = active.scatter(parts, broadcast=True, hash=False)
+        futures = [
+            active.submit(
+                integrate_piece_task, scattered, p, function, order, rule, budget, pure=False
+            )
+            for p in range(parts.n_partitions)
+        ]
+        results = _run_tasks(futures, progress)
+    value = math.fsum(r.value for r in results)
+    estimate = math.fsum(r.error_estimate for r in results)
+    unresolved = [r for r in results if not r.converged]
+    message = (
+        f"sum of {parts.n_partitions} partitions; {unresolved[0].message}"
+        if unresolved
+        else f"sum of {parts.n_partitions} partitions, each {results[0].message}"
+    )
+    level_made = parts.base.level + parts.steps
+    return IntegrationResult(
+        value=value,
+        error_estimate=estimate,
+        order=results[0].order,
+        level=level_made,
+        rule=results[0].rule,
+        cells=sum(r.cells for r in results),
+        points=sum(r.points for r in results),
+        converged=not unresolved,
+        message=message,
+        history=((level_made, results[0].order, value),),
+    )
+
+
+def integrate(target: Domain | Mesh, function: Any, **options: Any) -> float:
+    """The value of :func:`integrate_with_estimate` (same options): a float.
+
+    Examples
+    --------
+    >>> import blockmesh, blockmesh.distributed as bd
+    >>> bd.integrate(blockmesh.load_domain("sp"), "1", order=1, level=2,
+    ...              partitions=3, workers=1)  # doctest: +SKIP
+    5.0
+    """
+    return integrate_with_estimate(target, function, **options).value
+
+
+def gather(path: str | os.PathLike[str]) -> Mesh:
+    """Read a partitioned mesh (its ``.pvtu`` or ``.xdmf`` index) into one Mesh.
+
+    The pieces' nodes go to their global ids, their cells (in global ids) follow each other in
+    order and their boundary edges to their places in the whole boundary list: the result equals
+    the serial refinement's Mesh. Needs the whole mesh's memory, so it is for meshes that fit.
+    """
+    pieces = [read_piece(source) for source in read_pieces(Path(path))]
+    if not pieces:
+        raise ExportError(f"{path} names no pieces")
+    first = pieces[0]
+    if sorted(p.index for p in pieces) != list(range(first.n_pieces)):
+        raise ExportError(f"{path}: the pieces are not 0..{first.n_pieces - 1}")
+    pieces.sort(key=lambda p: p.index)
+    points = np.empty((first.n_nodes_total, 2))
+    seen = np.zeros(first.n_nodes_total, dtype=bool)
+    edges = np.empty((first.n_boundary_total, 2), dtype=np.int64)
+    patch = np.empty(first.n_boundary_total, dtype=np.int64)
+    for piece in pieces:
+        points[piece.global_node_ids] = piece.mesh.points
+        seen[piece.global_node_ids] = True
+        edges[piece.boundary_order] = piece.global_node_ids[piece.mesh.boundary_edges]
+        patch[piece.boundary_order] = piece.mesh.boundary_patch
+    if not seen.all():
+        raise ExportError(f"{path}: the pieces do not cover every node")
+    return Mesh._trusted(
+        points=points,
+        cells=np.concatenate([p.global_node_ids[p.mesh.cells] for p in pieces]),
+        block_id=np.concatenate([p.mesh.block_id for p in pieces]),
+        parent=np.concatenate([p.mesh.parent for p in pieces]),
+        boundary_edges=edges,
+        boundary_patch=patch,
+        patch_names=first.mesh.patch_names,
+        region=np.concatenate([p.mesh.region for p in pieces]),
+        region_names=first.mesh.region_names,
+        level=first.mesh.level,
+        name=first.mesh.name,
+    )

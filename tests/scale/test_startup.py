@@ -1,0 +1,59 @@
+"""Fast start: --help and --version import no numerical library; every public name still loads."""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+
+import pytest
+
+import blockmesh
+from blockmesh.commands import SUMMARIES, load
+
+PROBE = """
+import sys
+from blockmesh.cli import main
+try:
+    main({argv!r})
+except SystemExit:
+    pass
+heavy = sorted(m for m in ("numpy", "scipy", "shapely", "networkx", "matplotlib", "meshio", "h5py")
+               if m in sys.modules)
+print(",".join(heavy) or "none")
+"""
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], []])
+def test_help_and_version_import_nothing_heavy(argv):
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE.format(argv=argv)], capture_output=True, text=True, check=True
+    )
+    assert out.stdout.strip().splitlines()[-1] == "none"
+
+
+def test_import_blockmesh_is_lazy():
+    code = "import sys, blockmesh; print('numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_every_public_name_is_importable():
+    for name in blockmesh.__all__:
+        assert getattr(blockmesh, name) is not None, name
+    namespace: dict = {}
+    exec("from blockmesh import *", namespace)
+    assert set(blockmesh.__all__) <= set(namespace)
+    assert set(blockmesh.__all__) <= set(dir(blockmesh))
+    assert blockmesh.__all__ == sorted(blockmesh._EXPORTS)
+    with pytest.raises(AttributeError, match="no attribute 'nonsense'"):
+        blockmesh.nonsense  # noqa: B018
+
+
+@pytest.mark.parametrize("name", list(SUMMARIES))
+def test_summaries_are_the_registered_help(name):
+    parser = argparse.ArgumentParser()
+    subparsers = parser.add_subparsers()
+    load(name).register(subparsers)
+    (action,) = subparsers._choices_actions
+    assert action.help == SUMMARIES[name]
