@@ -21,7 +21,7 @@ from ..curved_quadrature import exact_sums
 from ..errors import ArgumentError, ArgumentTypeError, ResourceError
 from ..refinement import refine
 from .arguments import Integrand, check_chunk, check_integrand, check_max_points, check_nonnegative
-from .kernel import DEFAULT_CHUNK, cell_sums, total_of
+from .kernel import DEFAULT_CHUNK, cell_sums, scaled_sum, total_of
 from .registry import get_rule, order_of
 from .result import IntegrationResult
 from .rule import Rule
@@ -133,7 +133,7 @@ def integrate_to_tolerance(
         )  # fmt: skip
         value = total_of(sums)
         assert sums.absolute is not None  # asked for above
-        floor = _ROUNDOFF * float(np.sum(sums.absolute)) + 1e-300
+        floor = scaled_sum(sums.absolute, _ROUNDOFF) + 1e-300
         points += cost
         cells_done = mesh.n_cells
         history.append((mesh.level, n, value))

@@ -33,7 +33,7 @@ from .arguments import (
     check_nonnegative,
 )
 from .estimate import null_rule
-from .kernel import DEFAULT_CHUNK, cell_sums, chunks, straight_tables, total_of
+from .kernel import DEFAULT_CHUNK, cell_sums, chunks, scaled_sum, straight_tables, total_of
 from .registry import get_rule, order_of
 from .result import IntegrationResult
 from .rule import Rule
@@ -253,11 +253,12 @@ def _with_estimate(
         cell_sums(mesh, function, found, n, chunk, screen=screen), mesh, function, found, n, exact
     )
     value = total_of(sums)
-    scale = float(np.sum(sums.magnitude)) if sums.magnitude is not None else abs(value)
-    limit = (warn_level + _ROUNDOFF) * scale
+    magnitude = sums.magnitude if sums.magnitude is not None else np.array([abs(value)])
+    scale = scaled_sum(magnitude)  # may be inf (1e308*y): the limit below stays finite
+    limit = scaled_sum(magnitude, warn_level + _ROUNDOFF)
     history: tuple[tuple[int, int, float], ...] = ((plan.level, n, value),)
     per_cell = sums.screen if sums.screen is not None else np.zeros(mesh.n_cells)
-    estimate = float(np.sum(per_cell)) if screen.complete else math.inf
+    estimate = scaled_sum(per_cell) if screen.complete else math.inf
     how = "from the highest resolved polynomial modes of f on each sector"
     if not estimate <= limit:
         check = n + 1 if n + 1 <= found.max_order else n - 1
@@ -267,7 +268,7 @@ def _with_estimate(
                 cell_sums(mesh, function, found, check, chunk), mesh, function, found, check, exact
             )
             per_cell = _SAFETY * np.abs(sums.values - other.values)
-            estimate = float(np.sum(per_cell))
+            estimate = scaled_sum(per_cell)
             points += extra
             history += ((plan.level, check, total_of(other)),)
             how = f"twice the difference to order {check}, cell by cell"

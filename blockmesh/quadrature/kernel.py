@@ -284,6 +284,42 @@ class _Screening:
             self.filled = 0
 
 
+def scaled_sum(values: np.ndarray, factor: float = 1.0) -> float:
+    """``factor * sum(values)`` for non-negative ``values``, without overflowing on the way.
+
+    The sum of magnitudes that sets a tolerance (``sum |integral|`` of the cells) may pass the
+    float64 range although the integral itself does not (``1e308*y``): the values are divided by
+    their largest before summing, so a small ``factor`` (a relative tolerance) still gives the
+    finite threshold it should, and only a result truly beyond the range is ``inf``.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        Non-negative numbers (NaN-free).
+    factor : float, optional
+        A non-negative multiplier applied before scaling back.
+
+    Returns
+    -------
+    float
+        ``factor * sum(values)``, ``inf`` only when that is beyond the float64 range.
+
+    Examples
+    --------
+    >>> scaled_sum(np.array([1e308, 1e308, 1e308, 1e308]), 0.25)
+    1e+308
+    >>> scaled_sum(np.array([1e308, 1e308]))
+    inf
+    """
+    if values.size == 0:
+        return 0.0
+    largest = float(np.max(values))
+    if largest == 0.0 or not math.isfinite(largest):
+        return factor * largest
+    with np.errstate(over="ignore"):
+        return float(largest * (factor * float(np.sum(values / largest))))
+
+
 def total_of(sums: CellSums) -> float:
     """The sum of the cell integrals; an error when it overflows although each cell is finite."""
     with np.errstate(over="ignore"):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from helpers import run_cli
 
 _KEYS = {
@@ -98,6 +99,16 @@ def test_overflow_and_huge_requests_are_errors_not_numbers(capsys):
     assert code == 2 and "38,841,120,000 evaluations" in err and "(--max-points)" in err
     code, _, _ = run_cli(capsys, "integrate", "sp", "-f", "x", "--max-points", "100")
     assert code == 2
+
+
+def test_a_finite_integral_of_huge_values_is_judged_without_overflow(capsys):
+    """`-f 1e308*y` over sp: the integral (-6.7e307) is finite, but sum |integral| is not; the
+    tolerance was inf, so the result always "converged", and numpy's overflow warning leaked."""
+    code, out, err = run_cli(capsys, "integrate", "sp", "-f", "1e308*y", "--json")
+    result = json.loads(out)
+    assert code == 0 and "overflow" not in err and "Traceback" not in err
+    assert result["value"] == pytest.approx(-(1e308 / 3) * 2, rel=1e-12)
+    assert 0 < result["error_estimate"] < 1e-12 * abs(result["value"]) and result["converged"]
 
 
 def test_expression_errors_point_at_the_place(capsys):
