@@ -57,7 +57,7 @@ ProgressCallback = Callable[[int, int], None]
 # --------------------------------------------------------------------------- sizes and memory
 @dataclass(frozen=True)
 class MeshSize:
-    """Counts and memory of a mesh before it is built (MATH.md section 2)."""
+    """Counts and memory of a mesh before it is built (docs/mathematics.md §2)."""
 
     level: int
     cells: int

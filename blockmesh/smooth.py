@@ -1,11 +1,11 @@
 """Laplacian smoothing that keeps a pentagon mesh valid (``refine(..., smooth=k)``).
 
-The paper's refinement degrades with level (MATH.md section 1: the worst angle shrinks by about a
-quarter per level). A few Laplacian sweeps per level cure most of it, at the price of nesting (old
-nodes move). The sweeps here keep every node on a block edge where it is (the block edges, and so
-the boundary and the regions, stay exactly as the domain has them; their nodes are already evenly
-spaced), move every other node to the mean of its neighbours, and undo the move of any node whose
-cells would stop being strictly convex.
+The paper's refinement degrades with level (docs/mathematics.md §1: the worst angle shrinks by
+about a quarter per level). A few Laplacian sweeps per level cure most of it, at the price of
+nesting (old nodes move). The sweeps here keep every node on a block edge where it is (the block
+edges, and so the boundary and the regions, stay exactly as the domain has them; their nodes are
+already evenly spaced), move every other node to the mean of its neighbours, and undo the move of
+any node whose cells would stop being strictly convex.
 
 Examples
 --------

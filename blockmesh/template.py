@@ -1,10 +1,11 @@
 """The refinement of one reference pentagon, numbered like the paper, built once and reused.
 
-Every node of a refined pentagon is a fixed combination of the pentagon's five corners (MATH.md
-section 1), and the paper's numbering of a single pentagon does not depend on its shape. So the
-connectivity of the refined reference pentagon and the position of its nodes on its five edges are
-computed once per level for local node ids ``0..n_L-1`` and cached; :mod:`blockmesh.refine` maps
-local ids to global ids block by block and computes coordinates level by level.
+Every node of a refined pentagon is a fixed combination of the pentagon's five corners
+(docs/mathematics.md §1), and the paper's numbering of a single pentagon does not depend on its
+shape. So the connectivity of the refined reference pentagon and the position of its nodes on its
+five edges are computed once per level for local node ids ``0..n_L-1`` and cached;
+:func:`blockmesh.refine` maps local ids to global ids block by block and computes coordinates
+level by level.
 
 Local numbering (0-based, the paper's program ``nodaladdressesforpentagon``): corners ``0..4``;
 then level by level, cells in order, each cell numbers the midpoints of its edges ``v_i -> v_i+1``

@@ -15,7 +15,7 @@ from blockmesh.topology import edge_keys
 
 LEVELS = range(5)
 
-# The paper's rule applied by hand to one pentagon <0 1 2 3 4> (0-based; MATH.md section 3).
+# The paper's rule applied by hand to one pentagon <0 1 2 3 4> (0-based; docs/mathematics.md §3).
 # Level 1: corners 0-4, midpoints u1..u5 = 5-9, inner points w1..w5 = 10-14 (Fig. 2).
 PAPER_LEVEL_1 = [
     [0, 5, 10, 14, 9], [1, 6, 11, 10, 5], [2, 7, 12, 11, 6],

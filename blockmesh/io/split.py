@@ -81,7 +81,7 @@ def check_split(split: str | None) -> str:
     """``split`` itself if it is one of :data:`SPLITS`, else :class:`ExportError`."""
     if split not in SPLITS:
         choices = "; ".join(f"{k}: {v}" for k, v in SPLITS.items())
-        raise ExportError(f"unknown split {split!r}; choose --split tri5|tri3|quad5 ({choices})")
+        raise ExportError(f"unknown split {split!r}; choose one of tri5, tri3, quad5 ({choices})")
     return split
 
 
