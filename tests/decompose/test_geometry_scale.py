@@ -76,6 +76,33 @@ def test_moved_and_scaled_block_domains_stay_valid(name, move):
 
 
 @settings(max_examples=30, deadline=None)
+@given(
+    st.sampled_from(["sp", "square-cut", "l-shape", "ring", "hexagon"]), MOVES, st.integers(0, 4)
+)
+def test_moved_and_scaled_domains_refine_to_valid_meshes(name, move, level):
+    """Meshes, not only blocks: wherever a domain sits and whatever its size, refinement gives
+    a mesh whose every cell is strictly convex and counter-clockwise, of the scaled area, or
+    one clear error where double precision cannot resolve the level's cells."""
+    domain = blockmesh.load_domain(name)
+    size = float(np.ptp(domain.vertices, axis=0).max())
+    there = Domain.from_blocks(
+        moved(domain.vertices, move, size), domain.blocks, domain.patches, domain.regions
+    )
+    try:
+        mesh = there.mesh(level)
+    except BlockMeshError as error:
+        assert "double precision" in str(error), error
+        assert move[0] > 8  # only 1e8 sizes and more from the origin
+        return
+    mesh.check_geometry()  # the final guard: every cell strictly convex and counter-clockwise
+    assert mesh.n_cells == domain.n_blocks * 6**level
+    rounding = 1e3 * np.finfo(float).eps * max(1.0, 10.0 ** move[0])  # of the moved corners
+    assert mesh.area == pytest.approx(domain.area * 100.0 ** move[2], rel=rounding)
+    quality = mesh.quality()
+    assert quality.not_strictly_convex == 0 and 0 < quality.min_angle <= quality.max_angle < 180
+
+
+@settings(max_examples=30, deadline=None)
 @given(MOVES)
 def test_invalid_domains_stay_invalid_wherever_they_sit(move):
     crossing = [(0, 0), (2, 0), (0, 2), (2, 2)]
