@@ -63,6 +63,7 @@ __all__ = [
     "data_files",
     "export_error",
     "export_errors",
+    "remove_pending",
     "scratch_file",
 ]
 
@@ -170,30 +171,40 @@ def _temp_path(target: Path, kind: str = "tmp") -> Path:
     return target.with_name(f".{target.name}.{tag}.{kind}")
 
 
-def _new_temp_file(target: Path) -> Path:
+#: Temporaries this process created and has not yet renamed or removed. A signal that arrives
+#: after a temporary is created but before the ``try`` that removes it (a window of a few
+#: bytecodes) would leave it behind; :func:`remove_pending` removes what is listed here.
+_PENDING: set[Path] = set()
+
+
+def _new_temp(target: Path, create: Callable[[Path], None]) -> Path:
     while True:
         tmp = _temp_path(target)
+        _PENDING.add(tmp)  # listed before it exists: no moment where it exists unlisted
         try:
-            fd = os.open(tmp, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)
+            create(tmp)
         except FileExistsError:
+            _PENDING.discard(tmp)
             continue
-        os.close(fd)
         return tmp
+
+
+def _create_file(tmp: Path) -> None:
+    os.close(os.open(tmp, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600))
+
+
+def _new_temp_file(target: Path) -> Path:
+    return _new_temp(target, _create_file)
 
 
 def _new_temp_dir(target: Path) -> Path:
-    while True:
-        tmp = _temp_path(target)
-        try:
-            os.mkdir(tmp, 0o700)
-        except FileExistsError:
-            continue
-        return tmp
+    return _new_temp(target, lambda tmp: os.mkdir(tmp, 0o700))
 
 
 def _unlink(path: Path) -> None:
     with contextlib.suppress(OSError):
         path.unlink()
+    _PENDING.discard(path)
 
 
 def _remove(path: Path) -> None:
@@ -201,6 +212,32 @@ def _remove(path: Path) -> None:
         shutil.rmtree(path, ignore_errors=True)
     else:
         _unlink(path)
+    _PENDING.discard(path)
+
+
+def remove_pending() -> list[Path]:
+    """Remove the temporaries this process left, e.g. when a signal interrupted a write.
+
+    The writers remove their temporaries themselves when an exception unwinds them; this is
+    for the few bytecodes between creating one and entering the ``try`` that would remove it.
+    The command line calls it when it stops on Ctrl-C, SIGTERM or SIGHUP.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The temporaries that still existed and were removed.
+
+    Examples
+    --------
+    >>> remove_pending()
+    []
+    """
+    removed = []
+    for path in list(_PENDING):
+        if path.exists() or path.is_symlink():
+            removed.append(path)
+        _remove(path)
+    return removed
 
 
 def _alive(pid: int) -> bool:

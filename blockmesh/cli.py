@@ -83,6 +83,13 @@ def _signals_as_interrupts() -> Iterator[None]:
             signal.signal(signum, handler)
 
 
+def _remove_pending() -> None:
+    """Remove temporaries a signal stranded between their creation and their ``try``."""
+    atomic = sys.modules.get("blockmesh.atomic")  # not imported: nothing was written
+    if atomic is not None:
+        atomic.remove_pending()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the process exit code (0 on success).
 
@@ -104,9 +111,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"{where}: error: {_printable(str(error))}", file=sys.stderr)
             return 2
         except Terminated as stop:
+            _remove_pending()
             print(f"{where}: terminated by signal {stop.signum}", file=sys.stderr)
             return 128 + stop.signum
         except KeyboardInterrupt:
+            _remove_pending()
             print(f"{where}: interrupted", file=sys.stderr)
             return 130
         except BrokenPipeError:

@@ -58,7 +58,7 @@ def test_a_missing_folder_without_template_fails_before_the_work(tmp_path, capsy
     assert code == 2 and "does not exist" in err and "mkdir -p" in err
 
 
-@pytest.mark.parametrize("level", ["300", "1000"])
+@pytest.mark.parametrize("level", ["300", "400", "1000"])
 def test_absurd_levels_are_refused_readably(capsys, level):
     code, out, err = run_cli(capsys, "mesh", "sp", "--level", level)
     assert code == 2 and out == ""
@@ -142,6 +142,62 @@ def test_sigterm_during_a_write_unwinds_like_ctrl_c(tmp_path, capsys, monkeypatc
     assert target.read_bytes() == b"old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.vtu"]
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
+def test_a_signal_just_after_a_temporary_is_made_leaves_nothing(
+    tmp_path, capsys, monkeypatch, signum
+):
+    """The window between creating a temporary and the writer's ``try`` (a real SIGTERM at the
+    start of a VTU write left ``.m.vtu.HOST-PID-RANDOM.tmp`` behind in 2 of 3 runs)."""
+    target = tmp_path / "m.vtu"
+    target.write_bytes(b"old")
+    real_open = os.open
+
+    def open_then_signal(path, *args, **kwargs):
+        fd = real_open(path, *args, **kwargs)
+        if Path(path).name.startswith(".m.vtu."):  # a temporary was just made
+            os.kill(os.getpid(), signum)  # handled before the writer reaches its try
+        return fd
+
+    monkeypatch.setattr(os, "open", open_then_signal)
+    code, _, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(target))
+    assert code == 128 + signum, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.vtu"]
+    assert target.read_bytes() == b"old"
+
+
+@pytest.mark.parametrize(
+    ("signame", "fmt"), [("SIGINT", "xdmf"), ("SIGTERM", "vtu"), ("SIGHUP", "openfoam")]
+)
+def test_a_real_signal_at_the_start_of_a_write(tmp_path, signame, fmt):
+    """A real process, signalled the moment its first temporary appears: never exit 0, never
+    "Exception ignored" (Ctrl-C swallowed in an XDMF write, issue 14), no temporary left, and
+    the old output whole."""
+    signum = getattr(signal, signame)
+    folder = tmp_path / "out"
+    folder.mkdir()
+    target = folder / ("case" if fmt == "openfoam" else f"m.{fmt}")
+    blockmesh.write(blockmesh.load_domain("sp").mesh(1), target, format=fmt)
+    before = {p.relative_to(folder): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
+    argv = ["mesh", "l-shape", "--level", "4", "-o", str(target), "--format", fmt]
+    run = subprocess.Popen(
+        [sys.executable, "-m", "blockmesh", *argv],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    while run.poll() is None and not any(p.name.startswith(".") for p in folder.rglob("*")):
+        pass  # poll as fast as possible: the signal lands as the write begins
+    run.send_signal(signum)
+    _, err = run.communicate(timeout=300)
+    assert run.returncode == 128 + signum, err
+    assert "Exception ignored" not in err and "Traceback" not in err
+    assert not [p for p in folder.rglob(".*")], err
+    after = {p.relative_to(folder): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    assert after == before
 
 
 def test_python_dash_m_blockmesh_runs_the_command_line():
