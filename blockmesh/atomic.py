@@ -51,9 +51,10 @@ import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from .errors import ExportError
+from .errors import ArgumentTypeError, ExportError
 
 __all__ = [
+    "as_path",
     "atomic_dir",
     "atomic_file",
     "atomic_files",
@@ -113,6 +114,32 @@ def export_errors(target: Path) -> Iterator[None]:
         yield
     except OSError as error:
         raise export_error(error, Path(target)) from error
+
+
+def as_path(value: object, what: str = "path") -> Path:
+    """``value`` (a ``str`` or ``os.PathLike``) as a :class:`~pathlib.Path`.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For anything else (``None``, a number, a list), naming ``what`` and the type given.
+
+    Examples
+    --------
+    >>> as_path("out/m.vtu")
+    PosixPath('out/m.vtu')
+    >>> as_path(3.5)
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ArgumentTypeError: path must be a str or os.PathLike, got float 3.5
+    """
+    if isinstance(value, str | os.PathLike):
+        path = os.fspath(value)
+        if isinstance(path, str):
+            return Path(path)
+    raise ArgumentTypeError(
+        f"{what} must be a str or os.PathLike, got {type(value).__name__} {value!r:.60}"
+    )
 
 
 def check_target(path: Path, *, directory: bool = False) -> Path:

@@ -546,9 +546,9 @@ class Domain:
 
     def write_toml(self, path: str | Path) -> Path:
         """Write :meth:`to_toml` to ``path`` atomically (temporary file, then rename)."""
-        from .atomic import atomic_file
+        from .atomic import as_path, atomic_file
 
-        path = Path(path)
+        path = as_path(path)
         with atomic_file(path) as temporary:
             temporary.write_text(self.to_toml(), encoding="utf-8")
         return path

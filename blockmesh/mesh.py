@@ -482,7 +482,12 @@ class Mesh:
         >>> bool(np.allclose(again.points[again.cells], mesh.points[mesh.cells]))
         True
         """
-        order = np.asarray(order, dtype=np.int64)
+        try:
+            order = np.asarray(order, dtype=np.int64)
+        except (TypeError, ValueError) as error:
+            raise ArgumentTypeError(
+                f"order must be an array of node ids, got {type(order).__name__} {order!r:.60}"
+            ) from error
         if order.shape != (self.n_points,) or not np.array_equal(
             np.sort(order), np.arange(self.n_points)
         ):

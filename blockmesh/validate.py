@@ -889,6 +889,15 @@ def _check_name(name: object, what: str) -> str:
     return name
 
 
+def _mapping(raw: object, what: str, of: str) -> dict[str, object]:
+    """``raw`` (a mapping, or None for none) as a dict; a located error for anything else."""
+    if raw is None:
+        return {}
+    if not isinstance(raw, Mapping):
+        raise DomainFormatError(f"{what} must map {of}, got {type(raw).__name__} {raw!r:.60}")
+    return dict(raw)
+
+
 def resolve_patches(
     boundary: np.ndarray, raw: Mapping[str, object] | None, blocks: np.ndarray
 ) -> tuple[tuple[str, ...], np.ndarray]:
@@ -909,7 +918,7 @@ def resolve_patches(
     patch : ndarray (Eb,)
         Index into ``names`` for each boundary edge.
     """
-    raw = dict(raw or {})
+    raw = _mapping(raw, "patches", "patch names to lists of edges [a, b]")
     index = {(int(a), int(b)): k for k, (a, b) in enumerate(boundary)}
     index.update({(b, a): k for (a, b), k in list(index.items())})
     patch = np.full(boundary.shape[0], -1, dtype=np.int64)
@@ -990,7 +999,7 @@ def resolve_regions(
     region = np.full(n_blocks, -1, dtype=np.int64)
     names: list[str] = []
     problems = []
-    for name, ids in dict(raw or {}).items():
+    for name, ids in _mapping(raw, "regions", "region names to lists of block ids").items():
         _check_name(name, "region")
         if isinstance(ids, str | bytes) or not isinstance(ids, Iterable):
             raise DomainFormatError(f"region {name!r} must be a list of block ids, got {ids!r}")

@@ -47,6 +47,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from ..atomic import as_path
 from ..errors import BlockMeshError, ExportError
 from ..mesh import Mesh
 from . import legacy_vtk, mat, msh, npz, openfoam, vtu, xdmf
@@ -232,7 +233,7 @@ def write(
     ...
     blockmesh.errors.ExportError: option dz is not known to the mat writer (its options: ...
     """
-    fmt = format_for_path(path, format)
+    fmt = format_for_path(as_path(path), format)
     mesh = check_mesh(mesh)
     kwargs = check_options(fmt, split=split, compression=compression, **options)
     try:
@@ -258,8 +259,8 @@ def read(path: str | os.PathLike[str], *, format: str | None = None) -> Mesh:
     ...
     blockmesh.errors.ExportError: cannot read /no/such/mesh.vtu: it does not exist
     """
-    fmt = format_for_path(path, format)
-    p = Path(path)
+    p = as_path(path)
+    fmt = format_for_path(p, format)
     if not p.exists():
         raise ExportError(f"cannot read {p}: it does not exist")
     if fmt.reader is None:
