@@ -86,6 +86,10 @@ _HINTS = {
 }
 
 
+#: numpy's message for a short write (``ndarray.tofile``), which carries no error number.
+_SHORT_WRITE = re.compile(r"(?P<requested>\d+) requested and (?P<written>\d+) written")
+
+
 # ------------------------------------------------------------------------- error reporting
 def export_error(error: OSError, target: Path) -> ExportError:
     """The :class:`ExportError` for an OS failure while writing ``target``: path and cause.
@@ -95,7 +99,21 @@ def export_error(error: OSError, target: Path) -> ExportError:
     >>> import errno
     >>> print(export_error(OSError(errno.ENOSPC, "No space left on device"), Path("/d/m.vtu")))
     cannot write /d/m.vtu: No space left on device (ENOSPC); free some space or write elsewhere
+
+    A short write without an error number (numpy's ``tofile``: "5345 requested and 2011
+    written") is a full disk too:
+
+    >>> short = export_error(OSError("5345 requested and 2011 written"), Path("/d/m.vtk"))
+    >>> str(short).split(": ", 1)[1].split(";")[:2]
+    ['No space left on device (ENOSPC', ' only 2011 of 5345 bytes were written)']
     """
+    short = _SHORT_WRITE.fullmatch(str(error)) if not error.errno else None
+    if short:
+        return ExportError(
+            f"cannot write {target}: {os.strerror(errno.ENOSPC)} (ENOSPC; only "
+            f"{short['written']} of {short['requested']} bytes were written); "
+            f"{_HINTS[errno.ENOSPC]}"
+        )
     number = error.errno or 0
     code = errno.errorcode.get(number)
     reason = os.strerror(number) if code else (error.strerror or str(error))
