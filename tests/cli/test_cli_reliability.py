@@ -219,3 +219,21 @@ def test_unexpected_errors_are_one_line_not_a_traceback(capsys, monkeypatch):
     code, out, err = run_cli(capsys, "mesh", "sp")
     assert code == 3 and "internal error (ZeroDivisionError: boom)" in err
     assert "Traceback" not in err
+
+
+def test_first_hour_small_things(capsys):
+    """Issue 11, item 9: a LICENSE as pyproject says, a --level help that says what a level is,
+    a one-line repr of a mesh (it printed every boundary edge), "1 block" not "1 blocks"."""
+    root = Path(__file__).resolve().parents[2]
+    assert (root / "LICENSE").read_text().startswith("MIT License")
+    assert 'license = "MIT"' in (root / "pyproject.toml").read_text()
+    with pytest.raises(SystemExit):
+        run_cli(capsys, "mesh", "--help")
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert "--level L, -l L refinement level: every block becomes 6**L pentagons (default 2)" in (
+        help_text
+    )
+    mesh = blockmesh.load_domain("l-shape").mesh(3)
+    for text in (str(mesh), repr(mesh)):
+        assert "\n" not in text and len(text) < 200, text
+        assert "5,184 cells" in text or "5184 cells" in text
