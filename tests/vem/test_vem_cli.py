@@ -83,6 +83,7 @@ def test_pure_neumann_with_constraint(capsys):
         (["--dirichlet", "left=0", "--neumann", "left=1"], "patch 'left' is given twice"),
         (["--dirichlet", "left=0", "--dirichlet", "left=1"], "patch 'left' is given twice"),
         (["--neumann", "left=1"], "no Dirichlet data"),
+        (["--neumann", "left=1"], "or --constraint mean (zero mean)"),  # the flag, not Python
         (["--dirichlet", "left"], "--dirichlet 'left': write PATCH=EXPR"),
         (["--dirichlet", "left=0", "-o", "{tmp}/u.msh"], "a solution is written to .vtu"),
         (["--neumann", "left=1", "-o", "{tmp}/u.vtu"], "no Dirichlet data"),
