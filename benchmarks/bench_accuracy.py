@@ -733,7 +733,7 @@ def main() -> None:
             r.h1 = abs(r.value - reference)  # the error, for the summary
         if r.problem == "kirsch":
             r.h1 = abs(r.value - KIRSCH.peak)  # the stress concentration's error
-    dof = 16000.0
+    dof = 2000.0 if args.quick else 16000.0  # within the runs of each mode
     for problem, attributes in (
         ("smooth", ("l2", "h1")),
         ("corner", ("l2", "h1")),
