@@ -12,7 +12,13 @@ quadrilateral refinements. This compares, on the same problems and counting the 
 
 Problems: u = sin(pi x) sin(pi y) on the unit square (smooth); u = r^(2/3) sin(2 phi / 3) on the
 L-shape (corner singularity); Cook's membrane (plane stress, E = 1, nu = 1/3, shear load 1: the
-vertical displacement of the middle of the loaded edge, (48, 52)).
+vertical displacement of the middle of the loaded edge, (48, 52)); the Kirsch plate (the
+catalogue's ``quarter-plate-hole``, plane stress, E = 1, nu = 0.3, the exact infinite-plate stress
+of ``blockmesh.vem.reference.kirsch`` as traction on the outer sides, rollers on the symmetry
+lines: the energy error against the exact field, and the stress concentration sigma_xx at the top
+of the hole, exactly 3, as the area-weighted mean of the cell-mean stresses of the cells there).
+The P1/Q1 grids of the Kirsch plate are O-grids: 2n x 2n near-square quadrilaterals (split in
+two for P1), uniform along the hole's arc and growing geometrically towards the outer sides.
 
 Counted the same way for every method: ``dof`` = unknowns of the solved system (nodes not on a
 Dirichlet patch, times the components), ``nnz`` = stored entries of that reduced matrix,
@@ -46,15 +52,18 @@ import blockmesh
 from blockmesh.decompose import decompose_convex_polygon
 from blockmesh.improve import inner_point_rule, refine_with_rule
 from blockmesh.mesh import Mesh
-from blockmesh.vem import PolygonMesh, solve_elasticity, solve_poisson
+from blockmesh.vem import PolygonMesh, elasticity_matrix, solve_elasticity, solve_poisson
 from blockmesh.vem.assembly import solve_system
 from blockmesh.vem.evaluate import boundary_values
+from blockmesh.vem.reference import kirsch
 from blockmesh.vem.rules import cell_rule
 
 PI = math.pi
 COOK = [(0.0, 0.0), (48.0, 44.0), (48.0, 60.0), (0.0, 44.0)]
 COOK_POINT = (48.0, 52.0)
 COOK_QUOTED = 23.96
+HOLE = 0.5  # the Kirsch plate's hole radius (quarter-plate-hole); E = 1, nu = 0.3, plane stress
+KIRSCH = kirsch(radius=HOLE, young=1.0, poisson=0.3)
 
 
 @dataclass
@@ -67,7 +76,8 @@ class Run:
     seconds: float
     l2: float = float("nan")
     h1: float = float("nan")
-    value: float = float("nan")  # Cook: the displacement
+    value: float = float("nan")  # Cook: the displacement; Kirsch: the stress concentration
+    energy: float = float("nan")  # Kirsch: the energy norm of the error
     min_angle: float = float("nan")
     h1_floor: float = float("nan")  # the best cell-wise constant gradient on the same cells
 
@@ -181,6 +191,29 @@ def cook_grid(n: int, quads: bool):
     return type(unit)(np.array([48 * xi, 44 * xi + eta * (44 - 28 * xi)]), unit.t)
 
 
+def kirsch_grid(n: int, quads: bool):
+    """The quarter plate [0, 2]^2 minus the hole: an O-grid of 2n x 2n near-square cells.
+
+    Angles are uniform on the arc (2n cells); each ray from the arc to the side x = 2 (angles up
+    to 45 degrees) or y = 2 carries 2n cells growing geometrically, so that every cell's radial
+    length is about its width (the grid a finite element user would draw around a hole).
+    """
+    import skfem
+
+    theta = np.linspace(0, PI / 2, 2 * n + 1)
+    ray = np.column_stack([np.cos(theta), np.sin(theta)])
+    reach = 2.0 / np.maximum(ray[:, 0], ray[:, 1])  # from the centre to the outer side
+    radius = HOLE * (reach[:, None] / HOLE) ** np.linspace(0, 1, 2 * n + 1)[None, :]
+    p = radius[:, :, None] * ray[:, None, :]  # (angle, radius, xy)
+    ids = np.arange(p.shape[0] * p.shape[1]).reshape(p.shape[:2])
+    a, b = ids[:-1, :-1].ravel(), ids[:-1, 1:].ravel()  # counter-clockwise: out, round, in
+    c, d = ids[1:, 1:].ravel(), ids[1:, :-1].ravel()
+    points = p.reshape(-1, 2).T
+    if quads:
+        return skfem.MeshQuad(points, np.array([a, b, c, d]))
+    return skfem.MeshTri(points, np.hstack([np.array([a, b, c]), np.array([a, c, d])]))
+
+
 # ------------------------------------------------------------------------------ VEM runs
 def timed(solve: Callable[[], tuple], small: bool) -> tuple[tuple, float]:
     """The result of ``solve()`` and its best time of 3 runs (1 run for big systems)."""
@@ -255,6 +288,41 @@ def vem_cook(method: str, size: int, mesh, **options) -> Run:
     )
 
 
+def vem_kirsch(method: str, size: int, mesh) -> Run:
+    sxx, syy, sxy = KIRSCH.stress
+
+    def solve() -> tuple:
+        return (
+            solve_elasticity(
+                mesh,
+                young=1.0,
+                poisson=0.3,
+                displacement={"left": (0, "free"), "down": ("free", 0)},
+                traction={"right": (sxx, sxy), "up": (sxy, syy)},
+                order=4,
+            ),
+        )
+
+    (sol,), seconds = timed(solve, mesh.n_points < 25_000)
+    e = sol.errors(KIRSCH.displacement, order=6)
+    top = np.flatnonzero(np.hypot(mesh.points[:, 0], mesh.points[:, 1] - HOLE) < 1e-9)
+    cells = np.flatnonzero(np.any(mesh.cells == top[0], axis=1))
+    area = mesh.cell_areas()[cells]
+    peak = float(area @ sol.stress[cells, 0] / area.sum())
+    return Run(
+        "kirsch",
+        method,
+        size,
+        sol.info.dof,
+        sol.info.nonzeros,
+        seconds,
+        l2=e.l2,
+        value=peak,
+        energy=e.energy,
+        min_angle=mesh.quality().min_angle,
+    )
+
+
 # ------------------------------------------------------------------------------ FEM runs
 def fem_poisson(problem: str, method: str, size: int, mesh) -> Run:
     import skfem
@@ -323,6 +391,76 @@ def fem_cook(method: str, size: int, mesh, order: int = 1) -> Run:
     else:  # the point is inside an edge: interpolate along it (the trace is linear there)
         value = float(basis.probes(np.array([[48.0 - 1e-12], [52.0]])) @ uh)
     return Run("cook", method, size, info.dof, info.nonzeros, seconds, value=value)
+
+
+def fem_kirsch(method: str, size: int, mesh) -> Run:
+    import skfem
+    from skfem.helpers import sym_grad
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    lam, mu = lame_parameters(1.0, 0.3)
+    lam = 2 * lam * mu / (lam + 2 * mu)  # plane stress
+    quads = isinstance(mesh, skfem.MeshQuad)
+    element = skfem.ElementVector(skfem.ElementQuad1() if quads else skfem.ElementTriP1())
+    basis = skfem.Basis(mesh, element, intorder=4)
+    (ux, uy), (sxx, syy, sxy) = KIRSCH.displacement, KIRSCH.stress
+
+    def solve() -> tuple:
+        a = skfem.asm(linear_elasticity(lam, mu), skfem.Basis(mesh, element, intorder=4))
+        right = mesh.facets_satisfying(lambda x: np.isclose(x[0], 2.0))
+        up = mesh.facets_satisfying(lambda x: np.isclose(x[1], 2.0))
+        fr = skfem.FacetBasis(mesh, element, facets=right, intorder=6)
+        fu = skfem.FacetBasis(mesh, element, facets=up, intorder=6)
+        b = skfem.asm(skfem.LinearForm(lambda v, w: sxx(*w.x) * v[0] + sxy(*w.x) * v[1]), fr)
+        b += skfem.asm(skfem.LinearForm(lambda v, w: sxy(*w.x) * v[0] + syy(*w.x) * v[1]), fu)
+        fixed = np.concatenate(
+            [
+                basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).nodal["u^1"],
+                basis.get_dofs(lambda x: np.isclose(x[1], 0.0)).nodal["u^2"],
+            ]
+        )
+        return solve_system(a.tocsr(), b, fixed, np.zeros(fixed.size))
+
+    (uh, info), seconds = timed(solve, mesh.p.shape[1] < 25_000)
+    compliance = np.linalg.inv(elasticity_matrix(1.0, 0.3))
+
+    def strain_error(w):  # (exx, eyy, gamma_xy) of the exact field minus the discrete one
+        exact = np.einsum("ij,j...->i...", compliance, np.array([f(*w.x) for f in KIRSCH.stress]))
+        e = sym_grad(w["uh"])
+        return exact - np.array([e[0, 0], e[1, 1], 2 * e[0, 1]])
+
+    @skfem.Functional
+    def l2(w):
+        return (w["uh"][0] - ux(*w.x)) ** 2 + (w["uh"][1] - uy(*w.x)) ** 2
+
+    @skfem.Functional
+    def energy(w):
+        d = strain_error(w)
+        return np.einsum("i...,ij,j...->...", d, elasticity_matrix(1.0, 0.3), d)
+
+    @skfem.Functional
+    def mean_sxx(w):  # the cell integral of sigma_xx(u_h)
+        e = sym_grad(w["uh"])
+        c = elasticity_matrix(1.0, 0.3)
+        return c[0, 0] * e[0, 0] + c[0, 1] * e[1, 1]
+
+    fine = skfem.Basis(mesh, element, intorder=8)
+    field = fine.interpolate(uh)
+    top = np.flatnonzero(np.hypot(mesh.p[0], mesh.p[1] - HOLE) < 1e-9)[0]
+    cells = np.flatnonzero(np.any(mesh.t == top, axis=0))
+    integral = mean_sxx.elemental(fine, uh=field)[cells]
+    area = skfem.Functional(lambda w: 1.0 + 0 * w.x[0]).elemental(fine)[cells]
+    return Run(
+        "kirsch",
+        method,
+        size,
+        info.dof,
+        info.nonzeros,
+        seconds,
+        l2=math.sqrt(l2.assemble(fine, uh=field)),
+        value=float(integral.sum() / area.sum()),
+        energy=math.sqrt(energy.assemble(fine, uh=field)),
+    )
 
 
 # ------------------------------------------------------------------------------ the study
@@ -409,6 +547,18 @@ def cook_runs(quick: bool) -> tuple[list[Run], float]:
     ratio = (v[1] - v[0]) / (v[2] - v[1])  # Richardson with the observed rate
     extrapolated = v[2] + (v[2] - v[1]) / (ratio - 1)
     return runs, extrapolated
+
+
+def kirsch_runs(quick: bool) -> list[Run]:
+    runs = []
+    plate = blockmesh.load_domain("quarter-plate-hole")
+    for level in range(1, (3 if quick else 4) + 1):
+        runs.append(vem_kirsch("pentagons (paper)", level, plate.mesh(level)))
+        runs.append(vem_kirsch("pentagons, optimized", level, optimized_levels(plate, level)))
+    for n in (2, 4, 8, 16) if quick else (2, 4, 8, 16, 32, 64):
+        runs.append(fem_kirsch("P1 triangles", n, kirsch_grid(n, quads=False)))
+        runs.append(fem_kirsch("Q1 quads", n, kirsch_grid(n, quads=True)))
+    return runs
 
 
 def stabilization_runs() -> list[Run]:
@@ -517,7 +667,7 @@ def plot(runs: list[Run], cook_reference: float, path: str) -> None:
     from blockmesh.plot import pyplot, save_figure
 
     plt = pyplot()
-    fig, axes = plt.subplots(2, 3, figsize=(16, 10))
+    fig, axes = plt.subplots(2, 4, figsize=(21, 10))
     panels = [
         (axes[0, 0], "smooth", "dof", "l2", "smooth: L2 error against unknowns"),
         (axes[0, 1], "smooth", "dof", "h1", "smooth: H1 error against unknowns"),
@@ -525,6 +675,8 @@ def plot(runs: list[Run], cook_reference: float, path: str) -> None:
         (axes[1, 0], "smooth", "seconds", "h1", "smooth: H1 error against assembly + solve time"),
         (axes[1, 1], "corner", "dof", "h1", "L-shape corner singularity: H1 error"),
         (axes[1, 2], "cook", "dof", "cook", "Cook's membrane: |v(48, 52) - reference|"),
+        (axes[0, 3], "kirsch", "dof", "energy", "Kirsch plate: energy error"),
+        (axes[1, 3], "kirsch", "dof", "peak", "Kirsch plate: |sigma_xx(0, a) - 3|"),
     ]
     for ax, problem, xkey, ykey, title in panels:
         chosen = [r for r in runs if r.problem == problem]
@@ -535,6 +687,8 @@ def plot(runs: list[Run], cook_reference: float, path: str) -> None:
             x = [getattr(r, xkey) for r in mine]
             if ykey == "cook":
                 y = [abs(r.value - cook_reference) for r in mine]
+            elif ykey == "peak":
+                y = [abs(r.value - KIRSCH.peak) for r in mine]
             else:
                 y = [getattr(r, ykey) for r in mine]
             colour, marker, line = STYLE[method]
@@ -561,11 +715,14 @@ def main() -> None:
     cook, reference = cook_runs(args.quick)
     runs += cook
     print("  cook done", flush=True)
+    runs += kirsch_runs(args.quick)
+    print("  kirsch done", flush=True)
     runs += stabilization_runs()
     for problem, columns in (
         ("smooth", ("l2", "h1", "h1_floor")),
         ("corner", ("l2", "h1", "h1_floor")),
         ("cook", ("value",)),
+        ("kirsch", ("l2", "energy", "value")),
         ("stabilization", ("l2", "h1")),
         ("stabilization-cook", ("value",)),
     ):
@@ -574,13 +731,19 @@ def main() -> None:
     for r in runs:
         if r.problem == "cook":
             r.h1 = abs(r.value - reference)  # the error, for the summary
-    dof = 16000.0
+        if r.problem == "kirsch":
+            r.h1 = abs(r.value - KIRSCH.peak)  # the stress concentration's error
+    dof = 2000.0 if args.quick else 16000.0  # within the runs of each mode
     for problem, attributes in (
         ("smooth", ("l2", "h1")),
         ("corner", ("l2", "h1")),
         ("cook", ("h1",)),
+        ("kirsch", ("energy", "h1")),
     ):
-        label = " (h1 = |v - reference|)" if problem == "cook" else ""
+        label = {
+            "cook": " (h1 = |v - reference|)",
+            "kirsch": " (h1 = |sigma_xx(0, a) - 3|)",
+        }.get(problem, "")
         print_summary(
             summary(runs, problem, dof, attributes),
             f"{problem}: errors at {dof:,.0f} unknowns (log-log interpolation){label}",

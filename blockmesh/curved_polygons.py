@@ -138,6 +138,7 @@ def curved_polygon(
     rings = [parse_points(coords, "polygon vertex")]
     hole_list = [] if holes is None else list(holes)
     rings += [parse_points(h, f"hole {k} vertex") for k, h in enumerate(hole_list)]
+    n_given = len(rings)  # rings after these are circles
     shapes: dict[tuple[int, int], Curve] = {}
     patch_lists = {k: list(v) for k, v in (patches or {}).items()}
     if circles is not None:
@@ -188,6 +189,7 @@ def curved_polygon(
             origin += [(e, float(a), float(b)) for a, b in itertools.pairwise(ts)]
         sampled.append(corners)
         pieces.append(origin)
+    _check_curves_apart(rings, curves, n_given)
     new_patches = _expanded_patches(patch_lists, pieces)
     straight = cls.from_polygon(
         np.array(sampled[0]),
@@ -196,12 +198,69 @@ def curved_polygon(
         patches=new_patches or None,
         description=description,
     )
-    try:
-        return _attach(cls, straight, sampled, pieces, curves)
-    except DomainError as error:
-        raise type(error)(
-            f"the polygon's curved edges do not fit its decomposition: {error}"
-        ) from None
+    return _attach(cls, straight, sampled, pieces, curves, n_given)
+
+
+#: Largest turn (radians) between two of the points a curve is drawn with to find crossings.
+_CROSSING_TURN = math.pi / 180
+
+
+def _edge_label(ring: int, edge: int, n_given: int, curved: bool) -> str:
+    """How the user named an edge: the polygon's or a hole's edge, or a circle."""
+    if ring >= n_given:
+        return f"circle {ring - n_given}"
+    what = "the polygon's edge" if ring == 0 else f"hole {ring - 1}'s edge"
+    return f"{what} {edge}{' (an arc)' if curved else ''}"
+
+
+def _check_curves_apart(
+    rings: list[np.ndarray], curves: Mapping[tuple[int, int], Curve], n_given: int
+) -> None:
+    """Raise DomainError, naming the edges as given, where two edges of the curved rings meet.
+
+    Every edge is drawn as it is (an arc with a point every degree), so a curve that crosses or
+    touches another edge, a hole or a circle is reported with the edges as the user numbered them
+    (the decomposition numbers the sampled edges otherwise). Neighbours may share their corner.
+    """
+    import shapely
+
+    from .validate import fmt_point
+
+    lines, keys = [], []
+    for r, ring in enumerate(rings):
+        for e in range(len(ring)):
+            curve = curves.get((r, e))
+            if curve is None:
+                xy = np.array([ring[e], ring[(e + 1) % len(ring)]])
+            else:
+                count = max(8, math.ceil(abs(curve.sweep) / _CROSSING_TURN))  # type: ignore[attr-defined]
+                xy = curve.point(np.linspace(0.0, 1.0, count + 1))
+            lines.append(shapely.LineString(xy))
+            keys.append((r, e))
+    size = float(np.ptp(np.vstack(rings), axis=0).max())
+    tol = 1e-12 * size
+    first, second = shapely.STRtree(lines).query(lines, predicate="intersects")
+    for i, j in zip(first.tolist(), second.tolist(), strict=True):
+        (ri, ei), (rj, ej) = keys[i], keys[j]
+        if i >= j or (ri == rj and ri >= n_given):  # a circle's own arcs meet end to end
+            continue
+        meeting = shapely.intersection(lines[i], lines[j])
+        n = len(rings[ri])
+        if ri == rj and (ej - ei) % n in (1, n - 1):  # neighbours: only their shared corner
+            corner = rings[ri][ej] if (ej - ei) % n == 1 else rings[ri][ei]
+            meeting = meeting.difference(shapely.Point(corner).buffer(tol))
+            if meeting.is_empty:
+                continue
+        where = shapely.get_coordinates(meeting)[0]
+        one = _edge_label(ri, ei, n_given, (ri, ei) in curves)
+        two = _edge_label(rj, ej, n_given, (rj, ej) in curves)
+        hint = (
+            "the boundary may not touch itself"
+            if ri == rj == 0
+            else "holes and circles must lie strictly inside the polygon, apart from it and "
+            "from each other"
+        )
+        raise DomainError(f"{one} and {two} meet near {fmt_point(where)}: {hint}")
 
 
 def _expanded_patches(
@@ -236,8 +295,13 @@ def _attach(
     rings: list[list[np.ndarray]],
     pieces: list[list[tuple[int, float, float]]],
     curves: Mapping[tuple[int, int], Curve],
+    n_given: int,
 ) -> Domain:
-    """The decomposed sampled polygon with its curved edges: vertices moved, curves bound."""
+    """The decomposed sampled polygon with its curved edges: vertices moved, curves bound.
+
+    When a block does not stay strictly convex with its vertices on the curves, the DomainError
+    names the blocks and the curved edges (as the user numbered them) that moved their vertices.
+    """
     vertices = np.array(straight.vertices)
     source = straight.boundary_source
     edges: dict[tuple[int, int], Curve] = {}
@@ -269,17 +333,44 @@ def _attach(
         name: [tuple(map(int, e)) for e in straight.patches[name]] for name in straight.patch_names
     }
     regions = {name: straight.regions[name].tolist() for name in straight.region_names}
-    return cls.from_blocks(
-        vertices,
-        straight.blocks,
-        patches,
-        regions,
-        name=straight.name,
-        description=straight.description,
-        layout=straight.layout,
-        boundary_source=mapping,
-        edges=edges,
-    )
+    try:
+        return cls.from_blocks(
+            vertices,
+            straight.blocks,
+            patches,
+            regions,
+            name=straight.name,
+            description=straight.description,
+            layout=straight.layout,
+            boundary_source=mapping,
+            edges=edges,
+        )
+    except DomainError as error:
+        on_curve: dict[int, set[tuple[int, int]]] = {}
+        for (a, b), key in mapping.items():
+            if key in curves:
+                on_curve.setdefault(a, set()).add(key)
+                on_curve.setdefault(b, set()).add(key)
+        named = {int(k) for k in re.findall(r"block (\d+)", str(error))}
+        culprits = sorted(
+            {key for k in named if k < straight.n_blocks for v in straight.blocks[k].tolist()
+             for key in on_curve.get(int(v), ())}
+        )  # fmt: skip
+        labels = [
+            _edge_label(r, e, n_given, False) if r >= n_given
+            else f"the arc on {_edge_label(r, e, n_given, False)}"
+            for r, e in culprits
+        ]  # fmt: skip
+        which = (
+            f" ({', '.join(labels)} moved the vertices of the blocks below onto the curve; make "
+            "an arc bulge less or put a polygon corner on it to split it, give a circle more "
+            "sides)"
+            if labels
+            else ""
+        )
+        raise type(error)(
+            f"the polygon's curved edges do not fit its decomposition{which}: {error}"
+        ) from None
 
 
 def disc_layout(

@@ -46,7 +46,14 @@ from .topology import edge_keys
 if TYPE_CHECKING:
     from .mesh import Mesh
 
-__all__ = ["curved_block_levels", "curved_slots", "edge_points", "place_on_curves"]
+__all__ = [
+    "curved_block_levels",
+    "curved_cell_nodes",
+    "curved_slots",
+    "edge_points",
+    "place_on_curves",
+    "refined_curves",
+]
 
 #: Local nodes (cells x nodes) processed at once: bounds the temporaries.
 _CHUNK_NODES = 1 << 21
@@ -197,6 +204,62 @@ def _block_inputs(
     return corners, along, curved
 
 
+@cache
+def _straight_edge_nodes(level: int) -> np.ndarray:
+    """(5, n_level) bool: the template nodes on each of a cell's five edges."""
+    template = pentagon_template(level)
+    out = np.zeros((5, template.n_nodes), dtype=bool)
+    for k in range(5):
+        out[k, template.edge_nodes[k]] = True
+    out.setflags(write=False)
+    return out
+
+
+def curved_cell_nodes(
+    points: np.ndarray,
+    cells: np.ndarray,
+    row: np.ndarray,
+    forward: np.ndarray,
+    table: np.ndarray,
+    level: int,
+    smooth: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The local nodes of cells with curved edges refined ``level`` times, and which ones move.
+
+    ``row`` and ``forward`` are the cells' rows of :func:`curved_slots`, ``table`` the curves'
+    points of :func:`edge_points` at ``level``. Returns ``(xy, moved)``: ``xy`` (G, n_level, 2)
+    in the template's numbering, ``moved`` (G, n_level) bool, False on the cells' straight edges,
+    whose nodes stay where the straight refinement puts them (shared with straight neighbours).
+    The arithmetic is element by element, so a cell's nodes do not depend on the cells refined
+    with it: :func:`place_on_curves` and a partition's piece get the same bits.
+    """
+    corners, along, curved = _block_inputs(points, cells, row, forward, table)
+    *_, (_, xy) = curved_block_levels(corners, along, curved, level, smooth)
+    straight = _straight_edge_nodes(level)
+    kept = np.zeros(xy.shape[:2], dtype=bool)
+    for k in range(5):
+        kept[~curved[:, k]] |= straight[k]
+    return xy, ~kept
+
+
+def refined_curves(curves: CurvedEdges, rows: np.ndarray, along_ids: np.ndarray, level: int):
+    """The curved edges of a refinement: rows ``rows`` of ``curves``, each cut into 2^level.
+
+    ``along_ids`` (len(rows), 2^level + 1) are the node ids along each row's edge, in the
+    curve's direction; the pieces keep the curve and get the dyadic parameters between.
+    """
+    fractions = np.arange(2**level + 1) / 2**level
+    start, stop = curves.start[rows, None], curves.stop[rows, None]
+    params = start + fractions * (stop - start)
+    return CurvedEdges(
+        edges=np.stack([along_ids[:, :-1], along_ids[:, 1:]], axis=-1).reshape(-1, 2),
+        curve=np.repeat(curves.curve[rows], 2**level),
+        start=params[:, :-1].ravel(),
+        stop=params[:, 1:].ravel(),
+        curves=curves.curves,
+    )
+
+
 def place_on_curves(base: Mesh, mesh: Mesh, level: int, smooth: int = 0) -> Mesh:
     """``mesh`` (``base`` refined ``level`` times, straight) with its cells on the curves.
 
@@ -215,9 +278,6 @@ def place_on_curves(base: Mesh, mesh: Mesh, level: int, smooth: int = 0) -> Mesh
     repeat = 6**level
     # Local node -> global id of a base cell, from the cells it became.
     scatter = template.cells.ravel()
-    straight_edge_node = np.zeros((5, template.n_nodes), dtype=bool)
-    for k in range(5):
-        straight_edge_node[k, template.edge_nodes[k]] = True
     along_ids = np.empty((len(curves), template.edge_nodes.shape[1]), dtype=np.int64)
     chunk = max(1, _CHUNK_NODES // template.n_nodes)
     for first in range(0, curved_cells.size, chunk):
@@ -225,15 +285,11 @@ def place_on_curves(base: Mesh, mesh: Mesh, level: int, smooth: int = 0) -> Mesh
         ids = np.empty((group.size, template.n_nodes), dtype=np.int64)
         children = mesh.cells.reshape(-1, repeat * 5)[group]
         ids[:, scatter] = children
-        corners, along, curved = _block_inputs(
-            base.points, base.cells[group], row[group], forward[group], table
+        xy, moved = curved_cell_nodes(
+            base.points, base.cells[group], row[group], forward[group], table, level, smooth
         )
-        *_, (_, xy) = curved_block_levels(corners, along, curved, level, smooth)
         # Write every node but those on the cell's straight edges (the straight ones are kept).
-        keep = np.zeros((group.size, template.n_nodes), dtype=bool)
-        for k in range(5):
-            keep[~curved[:, k]] |= straight_edge_node[k]
-        points[ids[~keep]] = xy[~keep]
+        points[ids[moved]] = xy[moved]
         # Node ids along every curved edge, in the curve's direction.
         for k in range(5):
             rows = row[group, k]
@@ -241,14 +297,5 @@ def place_on_curves(base: Mesh, mesh: Mesh, level: int, smooth: int = 0) -> Mesh
             nodes = ids[hit][:, template.edge_nodes[k]]
             nodes[~forward[group, k][hit]] = nodes[~forward[group, k][hit]][:, ::-1]
             along_ids[rows[hit]] = nodes
-    fractions = np.arange(2**level + 1) / 2**level
-    start, stop = curves.start[:, None], curves.stop[:, None]
-    params = start + fractions * (stop - start)
-    refined = CurvedEdges(
-        edges=np.stack([along_ids[:, :-1], along_ids[:, 1:]], axis=-1).reshape(-1, 2),
-        curve=np.repeat(curves.curve, 2**level),
-        start=params[:, :-1].ravel(),
-        stop=params[:, 1:].ravel(),
-        curves=curves.curves,
-    )
+    refined = refined_curves(curves, np.arange(len(curves)), along_ids, level)
     return mesh._copy(points=points, curves=refined)

@@ -140,6 +140,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 target, args.function, order=_DEFAULT_ORDER if args.order is None else args.order,
                 level=_level(args, target), rule=args.rule or "paper", partitions=args.partitions,
                 workers=args.workers, scheduler=args.scheduler, max_points=args.max_points,
+                exact_geometry=args.exact_geometry,
             )  # fmt: skip
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BlockMeshWarning)  # printed below, with the options

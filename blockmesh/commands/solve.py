@@ -10,12 +10,13 @@ prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` 
 from __future__ import annotations
 
 import argparse
+import re
 import time
 from typing import Any
 
 import numpy as np
 
-from ..errors import BlockMeshError
+from ..errors import BlockMeshError, SolverError
 from ..improve import QUALITY_RULES, refine_with_rule
 from ..vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from ..vem.fields import split_pair
@@ -207,7 +208,10 @@ def run(args: argparse.Namespace) -> int:
     domain = resolve_domain(args)
     started = time.perf_counter()
     mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
-    solution = _solve(args, mesh, dirichlet, neumann)
+    try:
+        solution = _solve(args, mesh, dirichlet, neumann)
+    except SolverError as error:  # the library names its keyword; here the flag is meant
+        raise SolverError(re.sub(r"constraint='(\w+)'", r"--constraint \1", str(error))) from None
     seconds = time.perf_counter() - started
     info = solution.info
     report: dict[str, Any] = {

@@ -49,7 +49,7 @@ import numpy as np
 
 from ..atomic import atomic_file, check_target
 from ..checks import whole_number
-from ..errors import ArgumentError, ExportError, ResourceError
+from ..errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
 from ..mesh import Mesh, MeshQuality
 from ..template import node_count
 from .files import (
@@ -470,6 +470,7 @@ def integrate_with_estimate(
     workers: int | None = None,
     scheduler: str | None = None,
     max_points: int | None = None,
+    exact_geometry: bool = False,
     progress: ProgressCallback | None = None,
 ) -> Any:
     """The integral over ``target`` at ``level``, partition by partition, with its estimate.
@@ -481,6 +482,8 @@ def integrate_with_estimate(
     :func:`blockmesh.integrate`: a Domain's refinement level, or for a Mesh the level to reach
     (above its own). ``function`` must be picklable: an expression string, or a function defined
     at module level. ``max_points`` bounds the evaluations of the whole integral.
+    ``exact_geometry`` integrates over the true curved cells, as :func:`blockmesh.integrate`
+    does (every piece carries its curved edges).
 
     Returns
     -------
@@ -496,6 +499,8 @@ def integrate_with_estimate(
     else:
         steps = whole_number(level, "level")
     budget = DEFAULT_MAX_POINTS if max_points is None else whole_number(max_points, "max_points")
+    if not isinstance(exact_geometry, bool):
+        raise ArgumentTypeError(f"exact_geometry must be True or False, got {exact_geometry!r}")
     with dask_client(client, workers=workers, scheduler=scheduler) as active:
         n_workers = len(active.scheduler_info().get("workers", {})) or 1
         parts = partition(target, steps, partitions if partitions is not None else n_workers)
@@ -510,7 +515,15 @@ def integrate_with_estimate(
         scattered = active.scatter(parts, broadcast=True, hash=False)
         futures = [
             active.submit(
-                integrate_piece_task, scattered, p, function, order, rule, budget, pure=False
+                integrate_piece_task,
+                scattered,
+                p,
+                function,
+                order,
+                rule,
+                budget,
+                exact_geometry,
+                pure=False,
             )
             for p in range(parts.n_partitions)
         ]

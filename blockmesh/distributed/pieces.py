@@ -11,8 +11,10 @@ global id, with
   boundary list.
 
 The cells of a piece are a contiguous run of the whole mesh's cells, starting at
-``first_cell``. Coordinates are computed by the paper's arithmetic unit by unit, so each node has
-bit for bit the coordinates the serial refinement gives it.
+``first_cell``. Coordinates are computed by the paper's arithmetic unit by unit, and a unit with a
+curved edge by the curve-aware rule of :mod:`blockmesh.curved_refinement`, so each node has bit
+for bit the coordinates the serial refinement gives it; the piece's mesh carries its curved edges
+(``Mesh.curves``), so that it integrates over the exact geometry too.
 
 Examples
 --------
@@ -31,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..blockplan import block_node_ids, edge_node_ids, place_block
+from ..curved_refinement import curved_cell_nodes, curved_slots, edge_points, refined_curves
 from ..mesh import Mesh
 from ..template import node_count, pentagon_template
 from .partition import Partitioning
@@ -185,8 +188,23 @@ def build_piece(parts: Partitioning, piece: int) -> Piece:
     rows_of: dict[int, list[int]] = {}
     for k, unit in enumerate(parts.boundary_unit[boundary_rows].tolist()):
         rows_of.setdefault(unit, []).append(k)
+    curves = base.curves if base.curves is not None and len(base.curves) else None
+    if curves is not None:  # the units' curved edges (rows of base.curves), as refine does
+        unit_cells = base.cells[units.start : units.stop]
+        curve_row, curve_forward = curved_slots(unit_cells, base.n_points, curves)
+        table = edge_points(curves, steps)
+    along_curve: dict[int, np.ndarray] = {}  # row of base.curves -> local ids along it
+    local_xy = local.view(np.float64).reshape(-1, 2)
     for unit in units:
         place_block(template, corners_xy[base.cells[unit]], local)
+        u = unit - units.start
+        curved_unit = curves is not None and bool(np.any(curve_row[u] >= 0))
+        if curved_unit:
+            xy, moved = curved_cell_nodes(
+                base.points, unit_cells[u : u + 1], curve_row[u : u + 1],
+                curve_forward[u : u + 1], table, steps,
+            )  # fmt: skip
+            local_xy[moved[0]] = xy[0, moved[0]]
         _, numbered = block_node_ids(plan, unit, out=ids)
         # Corners and nodes of edges a lower partition numbered are not in the per-level runs.
         special = np.concatenate(
@@ -207,10 +225,27 @@ def build_piece(parts: Partitioning, piece: int) -> Piece:
         )
         for row in rows_of.get(unit, ()):
             boundary_nodes[row] = ids[along[int(parts.boundary_side[boundary_rows[row]])]]
-    return _assemble(parts, piece, points, cells, global_ids, ghost, boundary_rows, boundary_nodes)
+        if curved_unit:
+            for edge in np.flatnonzero(curve_row[u] >= 0).tolist():
+                nodes = ids[along[edge]]
+                along_curve.setdefault(
+                    int(curve_row[u, edge]), nodes if curve_forward[u, edge] else nodes[::-1]
+                )
+    piece_curves = None
+    if curves is not None:
+        rows = np.array(sorted(along_curve), dtype=np.int64)
+        ids_along = np.array([along_curve[r] for r in rows.tolist()], dtype=np.int64)
+        piece_curves = refined_curves(
+            curves, rows, ids_along.reshape(rows.size, along.shape[1]), steps
+        )
+    return _assemble(
+        parts, piece, points, cells, global_ids, ghost, boundary_rows, boundary_nodes, piece_curves
+    )
 
 
-def _assemble(parts, piece, points, cells, global_ids, ghost, boundary_rows, boundary_nodes):
+def _assemble(
+    parts, piece, points, cells, global_ids, ghost, boundary_rows, boundary_nodes, curves=None
+):
     base, steps = parts.base, parts.steps
     units = parts.units(piece)
     per_unit = 6**steps
@@ -236,6 +271,7 @@ def _assemble(parts, piece, points, cells, global_ids, ghost, boundary_rows, bou
         region_names=base.region_names,
         level=base.level + steps,
         name=base.name,
+        curves=curves,
     )
     return Piece(
         mesh=mesh,

@@ -126,12 +126,19 @@ def write_piece_task(parts: Partitioning, piece: int, folder: str, index: str) -
 
 
 def integrate_piece_task(
-    parts: Partitioning, piece: int, function: Any, order: int, rule: str, max_points: int
+    parts: Partitioning,
+    piece: int,
+    function: Any,
+    order: int,
+    rule: str,
+    max_points: int,
+    exact_geometry: bool = False,
 ):
     """The integral of ``function`` over partition ``piece``, with its error estimate.
 
     :func:`blockmesh.quadrature.integrate_with_estimate` on the piece's mesh (its warnings stay
-    on the worker: the estimate and ``converged`` say the same to the client).
+    on the worker: the estimate and ``converged`` say the same to the client); with
+    ``exact_geometry`` over the piece's true curved cells.
     """
     import warnings
 
@@ -142,5 +149,10 @@ def integrate_piece_task(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BlockMeshWarning)
         return integrate_with_estimate(
-            mesh, function, order=order, rule=rule, max_points=max_points
+            mesh,
+            function,
+            order=order,
+            rule=rule,
+            max_points=max_points,
+            exact_geometry=exact_geometry,
         )

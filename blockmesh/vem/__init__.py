@@ -10,6 +10,7 @@ the same vertex count are computed at once.
 :func:`solve_elasticity`         plane stress / plane strain, displacement and traction patches
 :class:`PolygonMesh`             the solver's mesh: any polygons, with patches
 :func:`write_solution`           VTU (point data, cell data) or XDMF + HDF5
+:func:`.reference.kirsch`        the exact plate-with-a-hole field (stress concentration 3)
 ===============================  =====================================================
 
 Examples

@@ -16,10 +16,12 @@ import blockmesh
 CHECKMESH = find_checkmesh()
 
 
-@pytest.mark.parametrize("suffix", [".vtu", ".npz", ".msh", ".mat", ".xdmf"])
+@pytest.mark.parametrize("suffix", [".vtu", ".vtk", ".npz", ".msh", ".mat", ".xdmf", "openfoam"])
 def test_nodes_on_curves_survive_a_round_trip(tmp_path, suffix):
     mesh = blockmesh.load_domain("annulus").mesh(2)
-    options = {"split": "tri3"} if suffix == ".msh" else {}  # gmsh: triangles, no new nodes
+    options: dict[str, str] = {"split": "tri3"} if suffix == ".msh" else {}  # no new nodes
+    if suffix == "openfoam":  # a case folder
+        options, suffix = {"format": "openfoam"}, ""
     again = blockmesh.read(blockmesh.write(mesh, tmp_path / f"annulus{suffix}", **options))
     radius = np.hypot(*again.points.T)
     on_circles = np.isclose(radius, 0.5, rtol=0, atol=1e-15) | np.isclose(

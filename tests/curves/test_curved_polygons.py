@@ -101,12 +101,30 @@ through = [2, 2.3]
         ({"circles": [{"center": (1, 1), "radius": 0.3, "sides": 2}]}, DomainFormatError,
          "sides must be a whole number in 3..64"),
         ({"arcs": {0: Arc(through=(2, 1.8))}}, DomainError,
-         "the polygon's curved edges do not fit its decomposition: "),
+         "the polygon's curved edges do not fit its decomposition (the arc on the polygon's "
+         "edge 0 moved the vertices of the blocks below onto the curve"),
+        # Crossings name the edges as given (not the decomposition's sampled edges).
+        ({"arcs": {0: Arc(through=(2, 1.8)), 2: Arc(through=(2, 0.1))}}, DomainError,
+         "the polygon's edge 0 (an arc) and the polygon's edge 2 (an arc) meet near"),
+        ({"arcs": {0: Arc(through=(2, 2.5))}}, DomainError,
+         "the polygon's edge 0 (an arc) and the polygon's edge 3 meet near (0, 0.8996"),
+        ({"circles": [{"center": (3.9, 1), "radius": 0.3}]}, DomainError,
+         "the polygon's edge 1 and circle 0 meet near (4, 0.71"),
+        ({"circles": [{"center": (2, 1), "radius": 0.3}, {"center": (2.4, 1), "radius": 0.3}]},
+         DomainError, "circle 0 and circle 1 meet near (2.2, 1.2"),
+        ({"holes": [[(1.5, 0.5), (2.5, 0.5), (2.5, 1.5), (1.5, 1.5)]],
+          "arcs": {0: Arc(through=(2, 0.8))}}, DomainError,
+         "the polygon's edge 0 (an arc) and hole 0's edge 3 meet near (1.5, 0.75"),
+        ({"holes": [[(1.5, 0.5), (2.5, 0.5), (2.5, 1.5), (1.5, 1.5)]],
+          "arcs": {"hole 0:0": Arc(through=(2, -0.1))}}, DomainError,
+         "the polygon's edge 0 and hole 0's edge 0 (an arc) meet near"),
     ],
 )  # fmt: skip
 def test_bad_polygon_curves_are_located(kwargs, error, message):
+    kwargs = dict(kwargs)
+    holes = kwargs.pop("holes", None)
     with pytest.raises(error) as caught:
-        Domain.from_polygon(CHANNEL, **kwargs)
+        Domain.from_polygon(CHANNEL, holes, **kwargs)
     assert message in str(caught.value)
 
 

@@ -169,3 +169,50 @@ def test_bad_index_names_and_missing_dask(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "dask.distributed", None)
     with pytest.raises(ResourceError, match=r"pip install 'blockmesh\[distributed\]'"):
         bd.refine_to(blockmesh.load_domain("sp"), 2, tmp_path / "m.pvtu", partitions=2)
+
+
+@pytest.mark.parametrize(
+    ("name", "level", "partitions", "suffix"),
+    [("annulus", 3, 2, ".pvtu"), ("disc", 3, 40, ".xdmf"), ("cylinder-channel", 2, 5, ".pvtu")],
+)
+def test_curved_domains_partition_onto_their_curves(
+    client, tmp_path, name, level, partitions, suffix
+):
+    """Pieces place curved units by the curve-aware rule: the serial mesh, bit for bit."""
+    domain = blockmesh.load_domain(name)
+    index = tmp_path / f"{name}{suffix}"
+    bd.refine_to(domain, level, index, partitions=partitions, client=client)
+    serial = blockmesh.refine(domain, level)
+    _same(bd.gather(index), serial)
+    parts = partition(domain, level, partitions)
+    pieces = [build_piece(parts, p) for p in range(partitions)]
+    assert sum(len(p.mesh.curves) for p in pieces) == len(serial.curves)
+    for piece in pieces:
+        assert piece.mesh.curves.distances(piece.mesh.points).max(initial=0.0) == 0.0
+
+
+def test_a_shared_curve_gives_both_pieces_the_same_nodes(client):
+    vertices = [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2), (4, 0), (4.5, 1), (4, 2)]
+    edges = {(1, 2): blockmesh.curves.Arc(through=(2.4, 0.4))}
+    domain = blockmesh.Domain.from_blocks(vertices, [(0, 1, 2, 3, 4), (1, 5, 6, 7, 2)], edges=edges)
+    parts = partition(domain, 3, 2)
+    serial = blockmesh.refine(domain, 3)
+    points = np.full_like(serial.points, np.nan)
+    for p in range(2):
+        piece = build_piece(parts, p)
+        points[piece.global_node_ids] = piece.mesh.points
+    assert np.array_equal(points, serial.points)
+
+
+@pytest.mark.parametrize("name", ["plate-hole", "annulus"])
+def test_partitioned_exact_geometry_integral_is_the_serial_one(client, name):
+    domain = blockmesh.load_domain(name)
+    for exact_geometry in (False, True):
+        serial = blockmesh.integrate(
+            domain, "x^4*y^2 + 1", order=5, level=2, exact_geometry=exact_geometry
+        )
+        parts = bd.integrate(domain, "x^4*y^2 + 1", order=5, level=2, partitions=3,
+                             client=client, exact_geometry=exact_geometry)  # fmt: skip
+        assert parts == pytest.approx(serial, rel=1e-14)
+    with pytest.raises(blockmesh.errors.ArgumentTypeError, match="exact_geometry must be"):
+        bd.integrate(domain, "1", order=1, level=1, client=client, exact_geometry="yes")

@@ -6,9 +6,9 @@ import sys
 
 import numpy as np
 import pytest
-from helpers import CATALOGUE
 
 import blockmesh
+from blockmesh.catalogue import catalogue_names
 from blockmesh.errors import ArgumentError, SolverError, TopologyError, UnknownNameError
 from blockmesh.vem import PolygonMesh, solve_poisson
 from blockmesh.vem.rules import cell_rule, fan_rule
@@ -29,7 +29,9 @@ def _all_dirichlet(mesh, value):
 
 
 # ---------------------------------------------------------------------------------- patch test
-@pytest.mark.parametrize("name", CATALOGUE)
+# the whole catalogue, curved domains included: their cells are polygons with nodes on the
+# curves, so a linear field is still in the virtual element space
+@pytest.mark.parametrize("name", catalogue_names())
 @pytest.mark.parametrize("level", [1, 2])
 def test_linear_solution_is_reproduced_on_every_catalogue_domain(name, level):
     mesh = blockmesh.load_domain(name).mesh(level)
