@@ -113,8 +113,10 @@ def _examples() -> list[Example]:
     for m in re.finditer(r"`(blockmesh\s[^`]*)`", prose):
         text = " ".join(m.group(1).split())
         placeholder = re.search(r"\[|\.\.\.|\b[A-Z]{1,6}\b", text)
-        bare = len(text.split()) == 2 and text != "blockmesh catalogue"
-        if not (placeholder or bare or text in NOT_COMMANDS):
+        words = text.split()
+        bare = len(words) == 2 and text != "blockmesh catalogue"
+        options_only = len(words) > 2 and all(w.startswith("--") for w in words[2:])  # names
+        if not (placeholder or bare or options_only or text in NOT_COMMANDS):
             found.append(Example("command", prose.count("\n", 0, m.start()) + 1, text))
     return found
 
