@@ -51,10 +51,8 @@ def run(args: argparse.Namespace) -> int:
                 )
             else:
                 shown = printable(str(name))
-                print(
-                    f"blockmesh check: {shown} is not valid: {printable(str(error))}",
-                    file=sys.stderr,
-                )
+                reason = printable(str(error), keep="\n")  # several problems: one per line
+                print(f"blockmesh check: {shown} is not valid: {reason}", file=sys.stderr)
             return 1
     report = certificate(domain)
     report["warnings"] = [str(w.message) for w in caught]
