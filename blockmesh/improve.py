@@ -19,6 +19,10 @@ the corner is a scaled, rotated copy of the ideal corner (the right angle, equal
 corner turning left: every cell stays strictly convex. The minimiser is limited-memory BFGS with
 a backtracking line search that rejects any step that makes a corner straight or reflex.
 
+With ``power=4`` (the sum of μ⁴) the worst corners weigh most, and with ``size_target="cells"``
+every cell keeps about its size: the ``"angles"`` rule of :func:`refine_with_rule`, which raises
+the worst angle of graded block layouts (decomposed polygons) where uniform sizes lower it.
+
 :func:`inner_point_rule` is the cheaper, nested alternative: it refines level by level and puts
 the five inner points of every cell at ``p + t (u_i - p)`` with the ``t`` per level that
 maximises the worst angle (the paper's rule is ``t = 1/2``).
