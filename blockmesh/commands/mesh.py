@@ -73,8 +73,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--quality-rule",
         choices=QUALITY_RULES,
         default="paper",
-        help="node placement: the paper's (default) or optimized after every level (every node "
-        "off the boundary moves, boundary nodes slide along it; see blockmesh.improve)",
+        help="node placement: the paper's (default); optimized after every level, cell sizes "
+        "made uniform; or angles: optimized after every level against the worst corners, cells "
+        "keeping their sizes (for decomposed, graded domains). Every node off the boundary moves, "
+        "boundary nodes slide along it; see blockmesh.improve",
     )
     parser.add_argument(
         "-o",

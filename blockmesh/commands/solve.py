@@ -96,7 +96,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--quality-rule",
         choices=QUALITY_RULES,
         default="paper",
-        help="node placement of the mesh: the paper's (default) or optimized after every level",
+        help="node placement of the mesh: the paper's (default), or optimized or angles after "
+        "every level (see blockmesh mesh --help)",
     )
     parser.add_argument(
         "--order", type=int, default=3, metavar="N", help="quadrature order of the loads (3)"

@@ -6,13 +6,19 @@ import json
 
 import numpy as np
 import pytest
-from helpers import run_cli
+import shapely
+from helpers import assert_blocks_tile, run_cli
 
 import blockmesh
 from blockmesh import BlockMeshWarning, Domain, DomainError
 from blockmesh.geometry import is_strictly_convex, signed_area
 
 meshio = pytest.importorskip("meshio")
+
+#: The channel of :func:`_gmsh_mesh`, with its obstacle.
+CHANNEL = shapely.Polygon(
+    [(0, 0), (3, 0), (3, 1), (0, 1)], [[(0.5, 0.4), (0.8, 0.4), (0.8, 0.6), (0.5, 0.6)]]
+)
 
 
 def _gmsh_mesh(path, kind: str) -> None:
@@ -81,6 +87,8 @@ def test_gmsh_meshes_convert_conformingly(gmsh_file):
     assert np.all(is_strictly_convex(domain.vertices[domain.blocks] - domain.vertices.mean(0)))
     assert domain.area == pytest.approx(_element_area(source), rel=1e-12)
     assert domain.area == pytest.approx(3.0 - 0.06, rel=1e-12)
+    # Edge to edge, no hanging node, the union is the channel (checked independently).
+    assert_blocks_tile(domain, CHANNEL)
     assert set(domain.patch_names) == {"inlet", "outlet", "walls", "obstacle"}
     assert set(domain.region_names) == {"upstream", "downstream"}
     # Each block knows its element: triangles became 9 blocks, quadrilaterals 12.
@@ -117,6 +125,7 @@ def test_meshio_round_trip(gmsh_file, tmp_path):
         domain = Domain.from_mesh(target)
         assert domain.area == pytest.approx(_element_area(source), rel=1e-12)
         assert domain.patch_names == ("boundary",)
+        assert_blocks_tile(domain, CHANNEL)
     # blockmesh's own output, read back: its cells are the blocks, patches kept.
     domain = Domain.from_mesh(path)
     written = blockmesh.write(domain.mesh(1), tmp_path / "again.vtu")
