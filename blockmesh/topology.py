@@ -36,6 +36,7 @@ __all__ = [
     "count_loops",
     "edge_index",
     "edge_keys",
+    "graph_components",
     "unique_edges",
 ]
 
@@ -287,18 +288,12 @@ def count_loops(boundary_edges: np.ndarray) -> int:
     >>> count_loops(np.array([[0, 1], [1, 2], [2, 0], [3, 4], [4, 5], [5, 3]]))
     2
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     edges = np.asarray(boundary_edges, dtype=np.int64).reshape(-1, 2)
     if edges.size == 0:
         return 0
     nodes, local = np.unique(edges, return_inverse=True)
     local = local.reshape(-1, 2)
-    graph = coo_matrix(
-        (np.ones(local.shape[0]), (local[:, 0], local[:, 1])), shape=(nodes.size, nodes.size)
-    )
-    return int(connected_components(graph, directed=False)[0])
+    return graph_components(nodes.size, local[:, 0], local[:, 1])[0]
 
 
 def connected_pieces(neighbour: np.ndarray) -> tuple[int, np.ndarray]:
@@ -311,12 +306,53 @@ def connected_pieces(neighbour: np.ndarray) -> tuple[int, np.ndarray]:
     >>> connected_pieces(np.array([[-1, -1, -1], [-1, -1, -1]]))
     (2, array([0, 1], dtype=int32))
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     neighbour = np.asarray(neighbour, dtype=np.int64)
     m, k = neighbour.shape
     c, e = np.nonzero(neighbour >= 0)
-    graph = coo_matrix((np.ones(c.size), (c, neighbour[c, e] // k)), shape=(m, m))
-    count, label = connected_components(graph, directed=False)
-    return int(count), label
+    return graph_components(m, c, neighbour[c, e] // k)
+
+
+#: Graphs up to this many vertices (a domain's blocks, its boundary) are labelled in numpy, so
+#: that loading a domain does not import ``scipy.sparse`` (a large part of a fresh process's
+#: start); bigger ones with :func:`scipy.sparse.csgraph.connected_components`.
+_SMALL_GRAPH = 4096
+
+
+def graph_components(n: int, a: np.ndarray, b: np.ndarray) -> tuple[int, np.ndarray]:
+    """Connected components of ``n`` vertices joined by the edges ``(a[i], b[i])``.
+
+    Returns their number and each vertex's component, numbered like
+    :func:`scipy.sparse.csgraph.connected_components` (in the order of each component's lowest
+    vertex). Small graphs are labelled by hooking each edge's higher root onto its lower one and
+    pointer jumping until every vertex points at its root (a root is its component's lowest
+    vertex).
+
+    Examples
+    --------
+    >>> graph_components(4, np.array([3]), np.array([1]))
+    (3, array([0, 1, 2, 1], dtype=int32))
+    """
+    a = np.asarray(a, dtype=np.int64)
+    b = np.asarray(b, dtype=np.int64)
+    if n > _SMALL_GRAPH:
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+
+        graph = coo_matrix((np.ones(a.size), (a, b)), shape=(n, n))
+        count, label = connected_components(graph, directed=False)
+        return int(count), label
+    label = np.arange(n, dtype=np.int64)
+    while True:
+        la, lb = label[a], label[b]
+        differ = la != lb
+        if not differ.any():
+            break
+        la, lb = la[differ], lb[differ]
+        np.minimum.at(label, np.maximum(la, lb), np.minimum(la, lb))
+        while True:
+            jumped = label[label]
+            if np.array_equal(jumped, label):
+                break
+            label = jumped
+    roots, numbered = np.unique(label, return_inverse=True)
+    return int(roots.size), numbered.astype(np.int32)
