@@ -12,7 +12,7 @@ arrays given as read-only, so not copied). Allocations of 1 MB or more are mappe
 (``MALLOC_MMAP_THRESHOLD_``, set by the script) so that freed memory of the parent does not hide
 a child's peak. Run::
 
-    PYTHONPATH=. python benchmarks/bench_export.py [--level 8] [--repeat 1] [--read]
+    PYTHONPATH=. python benchmarks/bench_export.py [--level 8] [--repeat 1] [--read] [--only vtu]
 
 This is a script, not a test: nothing here asserts a time.
 """
@@ -115,6 +115,12 @@ def main() -> None:
     parser.add_argument("--level", type=int, default=8)
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--read", action="store_true", help="also time reading each file back")
+    parser.add_argument(
+        "--only",
+        nargs="+",
+        metavar="LABEL",
+        help="the formats whose label starts with one of these",
+    )
     args = parser.parse_args()
 
     start = time.perf_counter()
@@ -149,6 +155,8 @@ def main() -> None:
         print(f"{'Mesh(...) check':<20} {'':>8} {'':>8} {'':>8} {'':>8} {tc:8.2f} {'':>8} "
               f"{pc / 1e6:8.0f} {pc / size:7.2f}")  # fmt: skip
     for label, name, kwargs in CASES:
+        if args.only and not label.startswith(tuple(args.only)):
+            continue
         t, s, target = _timed(lambda p, kw=kwargs: io.write(mesh, p, **kw), name, args.repeat)
         row = f"{label:<20} {t:8.2f} {t / t0:8.1f} {s / 1e6:8.1f} {s / s0:8.1f}"
         if args.read:

@@ -50,7 +50,8 @@ class _Elements:
             return np.empty(0, np.int64), np.empty((0, width), np.int64), np.empty(0, np.int64)
         rows = self.rows[0] if len(self.rows) == 1 else np.concatenate(self.rows)
         self.rows = [rows]
-        entity = np.concatenate(self.entity)
+        entity = self.entity[0] if len(self.entity) == 1 else np.concatenate(self.entity)
+        self.entity = [entity]
         return rows[:, 0], rows[:, 1:], entity
 
 
@@ -145,7 +146,7 @@ def _elements(r: TextReader, f: _File) -> None:
                 ".msh files it writes (one split for the whole mesh)"
             )
         group.rows.append(rows)
-        group.entity.append(np.full(n, tag, dtype=np.int64))
+        group.entity.append(np.full(n, tag, dtype=np.int32 if abs(tag) <= _INT32 else np.int64))
 
 
 def _element_data(r: TextReader, f: _File) -> None:
@@ -360,7 +361,11 @@ def _block_ids(meta: dict[str, Any], entity_of_cell: np.ndarray, where: str) -> 
 
 
 def _node_index(node_tags: np.ndarray) -> Callable[[np.ndarray, str, str], np.ndarray]:
-    """A function mapping node tags to node indices (tag - 1 when the tags are 1..N in order)."""
+    """A function mapping node tags to node indices (tag - 1 when the tags are 1..N in order).
+
+    The tags it is given are the parsed file's own arrays: tag - 1 is computed in place (no copy
+    of the elements), so they hold indices afterwards.
+    """
     n = node_tags.size
     consecutive = n == 0 or (node_tags[0] == 1 and np.array_equal(node_tags, np.arange(1, n + 1)))
     index_of = None
@@ -375,7 +380,7 @@ def _node_index(node_tags: np.ndarray) -> Callable[[np.ndarray, str, str], np.nd
         if index_of is None:
             if low < 1 or high > n:
                 raise ExportError(f"{where}: some {what} use node tags that are not in $Nodes")
-            return tags - 1
+            return np.subtract(tags, 1, out=tags)
         if low < 0 or high >= index_of.size or np.any(index_of[tags] < 0):
             raise ExportError(f"{where}: some {what} use node tags that are not in $Nodes")
         return index_of[tags]

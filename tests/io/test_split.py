@@ -91,3 +91,12 @@ def test_elements_that_are_no_pentagon_are_refused(mesh: Mesh) -> None:
 def test_unknown_split(mesh: Mesh) -> None:
     with pytest.raises(ExportError, match="unknown split 'tri9'.*tri5, tri3 or quad5|split 'tri9'"):
         bio.split_cells(mesh, "tri9")
+
+
+def test_a_tri3_fan_from_another_corner_is_merged_by_its_outline(mesh: Mesh) -> None:
+    s = bio.split_cells(mesh, "tri3")
+    cells = s.cells.copy()
+    c = mesh.cells[0]
+    cells[:3] = [[c[1], c[2], c[3]], [c[1], c[3], c[4]], [c[1], c[4], c[0]]]
+    got = merge_elements(cells, s.parent, s.points, where="x", split="tri3")
+    np.testing.assert_array_equal(canonical(got.cells), canonical(mesh.cells))

@@ -57,3 +57,15 @@ def test_summaries_are_the_registered_help(name):
     load(name).register(subparsers)
     (action,) = subparsers._choices_actions
     assert action.help == SUMMARIES[name]
+
+
+def test_load_domain_imports_no_scipy():
+    code = (
+        "import sys, blockmesh\n"
+        "from blockmesh.catalogue import catalogue_names\n"
+        "for name in catalogue_names():\n"
+        "    blockmesh.load_domain(name)\n"
+        "print(sorted({m.split('.')[1] for m in sys.modules if m.startswith('scipy.')}))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "spatial" not in out.stdout and "sparse" not in out.stdout, out.stdout
