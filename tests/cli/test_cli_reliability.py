@@ -183,7 +183,7 @@ def test_a_real_signal_at_the_start_of_a_write(tmp_path, signame, fmt):
     blockmesh.write(blockmesh.load_domain("sp").mesh(1), target, format=fmt)
     before = {p.relative_to(folder): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
-    argv = ["mesh", "l-shape", "--level", "4", "-o", str(target), "--format", fmt]
+    argv = ["mesh", "l-shape", "--level", "5", "-o", str(target), "--format", fmt]
     run = subprocess.Popen(
         [sys.executable, "-m", "blockmesh", *argv],
         env=env,
@@ -193,6 +193,10 @@ def test_a_real_signal_at_the_start_of_a_write(tmp_path, signame, fmt):
     )
     while run.poll() is None and not any(p.name.startswith(".") for p in folder.rglob("*")):
         pass  # poll as fast as possible: the signal lands as the write begins
+    if run.poll() is not None:  # a starved poller never saw the write: nothing was tested
+        _, err = run.communicate()
+        assert run.returncode == 0, err
+        pytest.skip("the command finished before a temporary was seen (machine too loaded)")
     run.send_signal(signum)
     _, err = run.communicate(timeout=300)
     assert run.returncode == 128 + signum, err
@@ -200,7 +204,7 @@ def test_a_real_signal_at_the_start_of_a_write(tmp_path, signame, fmt):
     assert not [p for p in folder.rglob(".*")], err
     after = {p.relative_to(folder): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
     if after != before:  # the signal landed after the commit (a loaded machine): new, whole
-        assert blockmesh.read(target, format=fmt).n_cells == 24 * 6**4, sorted(after)
+        assert blockmesh.read(target, format=fmt).n_cells == 24 * 6**5, sorted(after)
 
 
 def test_python_dash_m_blockmesh_runs_the_command_line():
