@@ -54,6 +54,7 @@ from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
+from .vtu_stream import read_stream
 
 __all__ = [
     "FORMAT",
@@ -226,11 +227,33 @@ def read_vtu(path: Path) -> Mesh:
     """Read a VTU file of pentagons (and boundary lines), as written by :func:`write_vtu`.
 
     Files from elsewhere are read too when their polygons are all pentagons: missing data gets
-    the defaults of :func:`blockmesh.io._common.mesh_from_arrays`.
+    the defaults of :func:`blockmesh.io._common.mesh_from_arrays`. The files blockmesh wrote are
+    read in chunks straight into the mesh's arrays (:mod:`blockmesh.io.vtu_stream`); others, and
+    damaged ones, with meshio.
     """
+    where = str(path)
+    parts = read_stream(Path(path))
+    if parts is not None:
+        meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
+        data = parts.cell_data
+        patch_names = _names(meta, parts.fields, "patch")
+        arrays = {
+            "points": parts.points,
+            "cells": parts.cells,
+            "block_id": data["block_id"][0] if "block_id" in data else None,
+            "parent": data["parent"][0] if "parent" in data else None,
+            "region": data["region"][0] if "region" in data else None,
+            "region_names": _names(meta, parts.fields, "region"),
+            "boundary_edges": parts.edges,
+            "boundary_patch": data["patch"][1] if "patch" in data else None,
+            "patch_names": patch_names or (None if "patch" in data else ["boundary"]),
+            "level": meta.get("level", 0),
+            "name": meta.get("name", ""),
+        }
+        del parts, data  # the -1 padding of the cell data is freed before the Mesh is built
+        return mesh_from_arrays(where=where, **arrays)
     import meshio
 
-    where = str(path)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
