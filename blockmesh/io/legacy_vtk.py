@@ -41,7 +41,7 @@ from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, mesh_from_arrays
-from .vtu import field_data, meshio_arrays, meshio_mesh
+from .vtu import field_data, meshio_arrays, meshio_mesh, own_arrays
 
 __all__ = ["FORMAT", "decode_name", "encode_name", "read_vtk", "write_vtk"]
 
@@ -221,8 +221,8 @@ def read_vtk(path: Path) -> Mesh:
     meta = decode_metadata(None if raw is None else raw.astype(np.uint8), where)
     vm.field_data = {**vm.field_data, **fields}
     arrays = meshio_arrays(vm, meta, where)
-    del vm  # meshio's copies are freed before the Mesh is built
-    return mesh_from_arrays(where=where, **arrays)
+    del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
+    return mesh_from_arrays(where=where, **own_arrays(arrays))
 
 
 FORMAT = Format(

@@ -62,6 +62,7 @@ __all__ = [
     "mesh_from_meshio",
     "meshio_arrays",
     "meshio_mesh",
+    "own_arrays",
     "read_vtu",
     "write_vtu",
 ]
@@ -223,6 +224,24 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
     }
 
 
+def own_arrays(arrays: dict[str, Any]) -> dict[str, Any]:
+    """``arrays`` (from :func:`meshio_arrays`) replaced one by one by compact native copies.
+
+    meshio's arrays are views (the polygons and the lines of one connectivity array, big-endian
+    for legacy VTK, points with a z column) that :func:`mesh_from_arrays` would copy all at once
+    while they are alive; copied here one at a time, each of meshio's buffers is freed as its last
+    view is replaced (once the meshio mesh itself is gone). Returns ``arrays``.
+    """
+    for key in list(arrays):
+        value = arrays[key]
+        if isinstance(value, np.ndarray):
+            if key == "points" and value.ndim == 2:
+                value = value[:, :2]
+            arrays[key] = np.array(value, dtype=value.dtype.newbyteorder("="), order="C")
+            del value
+    return arrays
+
+
 def read_vtu(path: Path) -> Mesh:
     """Read a VTU file of pentagons (and boundary lines), as written by :func:`write_vtu`.
 
@@ -263,8 +282,8 @@ def read_vtu(path: Path) -> Mesh:
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
     arrays = meshio_arrays(vm, meta, where)
-    del vm  # meshio's copies are freed before the Mesh is built
-    return mesh_from_arrays(where=where, **arrays)
+    del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
+    return mesh_from_arrays(where=where, **own_arrays(arrays))
 
 
 FORMAT = Format(
