@@ -83,6 +83,10 @@ class _File:
     surface: _Elements = field(default_factory=_Elements)
     # name -> (element tags, values); tags None: the values are the surface elements' own, in order
     views: dict[str, tuple[np.ndarray | None, np.ndarray]] = field(default_factory=dict)
+    # the pentagon view is elements ``per * p .. per * p + per - 1`` for pentagon ``p`` (0: not)
+    per: int = 0
+    # the parent view holds one value per group of ``parent_per`` elements (0: one per element)
+    parent_per: int = 0
 
 
 def _ints(text: bytes, r: TextReader, what: str, count: int = 1) -> list[int]:
@@ -131,9 +135,11 @@ def _nodes(r: TextReader, f: _File) -> None:
             raise ExportError(f"{r.where}: parametric nodes are not supported; save without them")
         tags.append(r.table(n, 1, np.int64, np.int32 if max_tag <= _INT32 else np.int64).ravel())
         coords.append(r.table(n, 3, np.float64, keep=2))
-    node_tags = np.concatenate(tags) if tags else np.empty(0, np.int64)
+    node_tags = np.concatenate(tags) if len(tags) > 1 else tags[0] if tags else np.empty(0, int)
     del tags
-    f.coords = np.concatenate(coords) if coords else np.empty((0, 2))
+    f.coords = (  # one block (as blockmesh writes): no copy
+        np.concatenate(coords) if len(coords) > 1 else coords[0] if coords else np.empty((0, 2))
+    )
     if node_tags.size != total:
         raise ExportError(f"{r.where}: $Nodes announces {total} nodes but holds {node_tags.size}")
     f.to_index = _node_index(node_tags)
@@ -196,9 +202,48 @@ def _element_data(r: TextReader, f: _File) -> None:
             surface = f.surface.tags[0]
             skip = tags.size - surface.size
             if skip >= 0 and np.array_equal(tags[skip:], surface):
-                f.views[strings[0]] = (None, values[skip:])
+                f.views[strings[0]] = (None, _compact_view(f, strings[0], values[skip:]))
                 return
         f.views[strings[0]] = (tags, values)
+
+
+def _grouping(values: np.ndarray) -> int | None:
+    """``per`` if ``values`` is ``0 0 .. 0 1 1 .. 1 ..`` (each id ``per`` times), else None.
+
+    Checked a chunk at a time (no temporaries of the view's size).
+    """
+    k = values.size
+    m = int(values[-1]) + 1 if k else 0
+    if m <= 0 or k % m:
+        return None
+    per = k // m
+    step = per << 16  # elements per chunk: temporaries of a few megabytes
+    for start in range(0, k, step):
+        chunk = values[start : start + step]
+        if not np.array_equal(chunk, np.arange(start, start + chunk.size) // per):
+            return None
+    return per
+
+
+def _compact_view(f: _File, name: str, values: np.ndarray) -> np.ndarray:
+    """A view matched to the surface elements, kept small when its layout allows.
+
+    The ``pentagon`` view of the files blockmesh writes numbers the elements ``per`` at a time
+    (``f.per``): it is kept as a broadcast ``(M, per)`` view of ``0..M-1``, and the ``parent``
+    view, then constant on each group, as one value per pentagon.
+    """
+    if name == "pentagon":
+        per = _grouping(values)
+        if per is not None:
+            f.per = per
+            m = values.size // per
+            return np.broadcast_to(np.arange(m)[:, None], (m, per))
+    elif name == "parent" and f.per and values.size % f.per == 0:
+        grouped = values.reshape(-1, f.per)
+        if all(np.array_equal(grouped[:, j], grouped[:, 0]) for j in range(1, f.per)):
+            f.parent_per = f.per
+            return np.array(grouped[:, 0])
+    return values
 
 
 def _parse(path: Path) -> _File:
@@ -314,9 +359,7 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     order = None
     if tags.size > 1 and np.any(tags[1:] <= tags[:-1]):  # saved by another tool: tag order
         order = np.argsort(tags, kind="stable")
-        nodes, pentagon = nodes[order], pentagon[order]
-        if parent_values is not None:
-            parent_values = parent_values[order]
+        nodes, pentagon = nodes[order], np.reshape(pentagon, -1)[order]
     f.surface.tags.clear()  # the element tags are no longer needed
     del tags
     to_index = f.to_index
@@ -346,12 +389,15 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
 
     region_of_tag, region_names = _groups(f, 2, meta.get("region_names"))
     patch_of_tag, patch_names = _groups(f, 1, meta.get("patch_names"))
-    first_element = merged.first_element
-    entity_of_cell = f.surface.entity(first_element if order is None else order[first_element])
+    # each pentagon's first element, as a position in the file
+    element = merged.first_element if order is None else order[merged.first_element]
+    entity_of_cell = f.surface.entity(element)
     region = _lookup(f, entity_of_cell, 2, region_of_tag, where)
     patch = _lookup(f, line_entity, 1, patch_of_tag, where)
     block_id = _block_ids(meta, entity_of_cell, where)
-    parent = None if parent_values is None else parent_values[first_element]
+    parent = None
+    if parent_values is not None:
+        parent = parent_values[element // f.parent_per if f.parent_per else element]
     return {
         "points": points,
         "cells": merged.cells,

@@ -78,7 +78,14 @@ def _from_split(
     ids = grouped[:, 0]
     if not all(np.array_equal(grouped[:, j], ids) for j in range(1, per)):
         return None
-    if m and (ids.min() < 0 or ids.max() >= m or np.any(np.bincount(ids, minlength=m) != 1)):
+    in_order = m < 2 or bool(np.all(ids[1:] > ids[:-1]))  # then ids is 0..m-1 if in range
+    if m and in_order and (ids[0] != 0 or ids[-1] != m - 1):
+        return None
+    if (
+        m
+        and not in_order
+        and (ids.min() < 0 or ids.max() >= m or np.any(np.bincount(ids, minlength=m) != 1))
+    ):
         return None
     kids = conn.reshape(m, per, width)
     # checked and copied column by column: the temporaries are flags per pentagon, not copies
@@ -95,7 +102,6 @@ def _from_split(
         columns = [(j, 0) for j in range(5)]
     if not all(np.array_equal(kids[:, i, j], kids[:, k, l]) for (i, j), (k, l) in same):
         return None
-    in_order = bool(np.all(ids[1:] > ids[:-1])) if m > 1 else True  # then ids is 0..m-1
     out = np.empty((m, 5), dtype=np.int64)
     for c, (i, j) in enumerate(columns):
         if in_order:
@@ -215,8 +221,10 @@ def merge_elements(
     ----------
     conn : ndarray (K, k)
         Node ids (rows of ``points``) of each element.
-    pentagon : ndarray (K,)
-        The pentagon each element comes from, 0..M-1.
+    pentagon : ndarray (K,) or (M, K / M)
+        The pentagon each element comes from, 0..M-1 (as a 2-D array: the elements' values in
+        rows of K / M, e.g. a broadcast ``(M, 5)`` view when the elements of pentagon ``p`` are
+        rows ``5 p .. 5 p + 4``).
     points : ndarray (N', 2)
     where : str
         Names the file in errors.
@@ -239,7 +247,7 @@ def merge_elements(
         if corner_nodes is not None:
             is_node = np.zeros(n, dtype=bool)
             is_node[:corner_nodes] = True
-        cells, first = _from_outlines(conn, pentagon, points, is_node, where)
+        cells, first = _from_outlines(conn, np.reshape(pentagon, -1), points, is_node, where)
     is_corner = np.zeros(n, dtype=bool)
     is_corner[cells] = True
     if (

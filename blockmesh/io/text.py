@@ -285,7 +285,7 @@ class TextReader:
     ([[1.0, 0.5], [2.0, 1.5]], b'$EndNodes')
     """
 
-    def __init__(self, file: _Readable, where: str, *, chunk: int = 1 << 24) -> None:
+    def __init__(self, file: _Readable, where: str, *, chunk: int = 1 << 22) -> None:
         self.file = file
         self.where = where
         self.chunk = chunk
