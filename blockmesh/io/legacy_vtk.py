@@ -9,6 +9,9 @@ as 64-bit integers: the one integer type VTK and meshio read alike in this forma
 format an array name cannot hold white space, so names are percent-encoded as VTK does
 (``outer%20wall``: VTK and ParaView show ``outer wall``).
 
+Reading: the files blockmesh writes are read straight into the mesh's arrays
+(:mod:`blockmesh.io.vtk_stream`); other files, and damaged ones, with meshio.
+
 Version 5.1 (offsets and connectivity) is what meshio and VTK 9 write; readers: VTK >= 9
 (ParaView >= 5.9), meshio. Use :mod:`blockmesh.io.vtu` for anything newer.
 
@@ -41,7 +44,8 @@ from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, mesh_from_arrays
-from .vtu import field_data, meshio_arrays, meshio_mesh
+from .vtk_stream import read_stream
+from .vtu import field_data, meshio_arrays, meshio_mesh, own_arrays, padded_arrays
 
 __all__ = ["FORMAT", "decode_name", "encode_name", "read_vtk", "write_vtk"]
 
@@ -202,27 +206,37 @@ def read_vtk(path: Path) -> Mesh:
     Files from elsewhere (any version meshio reads) are read too when their polygons are all
     pentagons, with the defaults of :func:`blockmesh.io._common.mesh_from_arrays`.
     """
-    import meshio
-
     where = str(path)
     try:
         _check_sizes(Path(path), where)
         with open(path, "rb") as f:
             head = f.read(1 << 20)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            vm = meshio.vtk.read(str(path))  # not meshio.read: it exits the interpreter on errors
     except ExportError:
         raise
-    except Exception as exc:  # meshio raises many kinds
+    except Exception as exc:  # an unreadable file
         raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
     fields = _read_field(head, where)
     raw = fields.get("blockmesh")
     meta = decode_metadata(None if raw is None else raw.astype(np.uint8), where)
+    parts = read_stream(Path(path)) if "blockmesh" in fields else None
+    if parts is not None:  # a file blockmesh wrote: read straight into the arrays
+        arrays = padded_arrays(
+            parts["points"], parts["cells"], parts["edges"], parts["cell_data"], fields, meta
+        )
+        del parts  # the -1 padding of the cell data is freed before the Mesh is built
+        return mesh_from_arrays(where=where, **arrays)
+    import meshio
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            vm = meshio.vtk.read(str(path))  # not meshio.read: it exits the interpreter on errors
+    except Exception as exc:  # meshio raises many kinds
+        raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
     vm.field_data = {**vm.field_data, **fields}
     arrays = meshio_arrays(vm, meta, where)
-    del vm  # meshio's copies are freed before the Mesh is built
-    return mesh_from_arrays(where=where, **arrays)
+    del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
+    return mesh_from_arrays(where=where, **own_arrays(arrays))
 
 
 FORMAT = Format(

@@ -39,20 +39,34 @@ _INT32 = np.iinfo(np.int32).max
 
 @dataclass
 class _Elements:
-    """The element blocks of one dimension: rows (tag, node tags...) and entity tags."""
+    """The element blocks of one dimension: tags, node tags, and each block's entity."""
 
-    rows: list[np.ndarray] = field(default_factory=list)
-    entity: list[np.ndarray] = field(default_factory=list)
+    tags: list[np.ndarray] = field(default_factory=list)
+    nodes: list[np.ndarray] = field(default_factory=list)
+    runs: list[tuple[int, int]] = field(default_factory=list)  # (entity tag, elements)
 
-    def joined(self, width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Element tags (K,), node tags (K, width) and entity tags (K,), as views if one block."""
-        if not self.rows:
-            return np.empty(0, np.int64), np.empty((0, width), np.int64), np.empty(0, np.int64)
-        rows = self.rows[0] if len(self.rows) == 1 else np.concatenate(self.rows)
-        self.rows = [rows]
-        entity = self.entity[0] if len(self.entity) == 1 else np.concatenate(self.entity)
-        self.entity = [entity]
-        return rows[:, 0], rows[:, 1:], entity
+    def join(self) -> None:
+        """Each list made one array (after the section: the blocks are freed as joined)."""
+        for name in ("tags", "nodes"):
+            parts = getattr(self, name)
+            if len(parts) > 1:
+                setattr(self, name, [np.concatenate(parts)])
+                parts.clear()
+
+    def joined(self, width: int) -> tuple[np.ndarray, np.ndarray]:
+        """Element tags (K,) and node tags (K, width)."""
+        if not self.nodes:
+            return np.empty(0, np.int64), np.empty((0, width), np.int64)
+        self.join()
+        return self.tags[0], self.nodes[0]
+
+    def entity(self, index: np.ndarray) -> np.ndarray:
+        """The entity tag of the elements ``index`` (positions in :meth:`joined`'s order)."""
+        if not self.runs:
+            return np.empty(0, np.int64)
+        tags = np.array([t for t, _ in self.runs], dtype=np.int64)
+        ends = np.cumsum([n for _, n in self.runs])
+        return tags[np.searchsorted(ends, index, side="right")]
 
 
 @dataclass
@@ -62,11 +76,17 @@ class _File:
     meta: dict[str, Any] = field(default_factory=dict)
     names: dict[tuple[int, int], str] = field(default_factory=dict)
     entities: dict[tuple[int, int], list[int]] = field(default_factory=dict)
-    node_tags: np.ndarray | None = None
+    # node tags -> node indices (the tags themselves are not kept)
+    to_index: Callable[[np.ndarray, str, str], np.ndarray] | None = None
     coords: np.ndarray | None = None
     lines: _Elements = field(default_factory=_Elements)
     surface: _Elements = field(default_factory=_Elements)
-    views: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    # name -> (element tags, values); tags None: the values are the surface elements' own, in order
+    views: dict[str, tuple[np.ndarray | None, np.ndarray]] = field(default_factory=dict)
+    # the pentagon view is elements ``per * p .. per * p + per - 1`` for pentagon ``p`` (0: not)
+    per: int = 0
+    # the parent view holds one value per group of ``parent_per`` elements (0: one per element)
+    parent_per: int = 0
 
 
 def _ints(text: bytes, r: TextReader, what: str, count: int = 1) -> list[int]:
@@ -115,10 +135,14 @@ def _nodes(r: TextReader, f: _File) -> None:
             raise ExportError(f"{r.where}: parametric nodes are not supported; save without them")
         tags.append(r.table(n, 1, np.int64, np.int32 if max_tag <= _INT32 else np.int64).ravel())
         coords.append(r.table(n, 3, np.float64, keep=2))
-    f.node_tags = np.concatenate(tags) if tags else np.empty(0, np.int64)
-    f.coords = np.concatenate(coords) if coords else np.empty((0, 2))
-    if f.node_tags.size != total:
-        raise ExportError(f"{r.where}: $Nodes announces {total} nodes but holds {f.node_tags.size}")
+    node_tags = np.concatenate(tags) if len(tags) > 1 else tags[0] if tags else np.empty(0, int)
+    del tags
+    f.coords = (  # one block (as blockmesh writes): no copy
+        np.concatenate(coords) if len(coords) > 1 else coords[0] if coords else np.empty((0, 2))
+    )
+    if node_tags.size != total:
+        raise ExportError(f"{r.where}: $Nodes announces {total} nodes but holds {node_tags.size}")
+    f.to_index = _node_index(node_tags)
 
 
 def _elements(r: TextReader, f: _File) -> None:
@@ -139,14 +163,17 @@ def _elements(r: TextReader, f: _File) -> None:
         if group is None:
             r.skip(n)
             continue
-        rows = r.table(n, 1 + ELEMENT_NODES[etype], np.int64, small)
-        if group.rows and group.rows[0].shape[1] != rows.shape[1]:
+        tags, rows = r.tagged_table(n, 1 + ELEMENT_NODES[etype], np.int64, small)
+        if group.nodes and group.nodes[0].shape[1] != rows.shape[1]:
             raise ExportError(
                 f"{r.where}: the surface mixes triangles and quadrangles; blockmesh reads the "
                 ".msh files it writes (one split for the whole mesh)"
             )
-        group.rows.append(rows)
-        group.entity.append(np.full(n, tag, dtype=np.int32 if abs(tag) <= _INT32 else np.int64))
+        group.tags.append(tags)
+        group.nodes.append(rows)
+        group.runs.append((tag, n))
+    f.lines.join()
+    f.surface.join()
 
 
 def _element_data(r: TextReader, f: _File) -> None:
@@ -161,14 +188,62 @@ def _element_data(r: TextReader, f: _File) -> None:
         raise ExportError(f"{r.where}, line {r.line_number}: $ElementData needs 3 integer tags")
     n_comp, count = ints[1], ints[2]
     try:
-        rows = r.table(count, 1 + n_comp, np.int64, np.int32 if count <= _INT32 else np.int64)
+        tags, rows = r.tagged_table(
+            count, 1 + n_comp, np.int64, np.int32 if count <= _INT32 else np.int64
+        )
     except ExportError:
         raise ExportError(
             f"{r.where}: the element data {strings[:1]} holds non-integer values; blockmesh "
             "reads the .msh files it writes"
         ) from None
-    if strings:
-        f.views[strings[0]] = (rows[:, 0], rows[:, 1])
+    if strings and n_comp >= 1:
+        values = rows[:, 0]
+        if f.surface.tags:  # checked against the elements now: the view's tags are freed
+            surface = f.surface.tags[0]
+            skip = tags.size - surface.size
+            if skip >= 0 and np.array_equal(tags[skip:], surface):
+                f.views[strings[0]] = (None, _compact_view(f, strings[0], values[skip:]))
+                return
+        f.views[strings[0]] = (tags, values)
+
+
+def _grouping(values: np.ndarray) -> int | None:
+    """``per`` if ``values`` is ``0 0 .. 0 1 1 .. 1 ..`` (each id ``per`` times), else None.
+
+    Checked a chunk at a time (no temporaries of the view's size).
+    """
+    k = values.size
+    m = int(values[-1]) + 1 if k else 0
+    if m <= 0 or k % m:
+        return None
+    per = k // m
+    step = per << 16  # elements per chunk: temporaries of a few megabytes
+    for start in range(0, k, step):
+        chunk = values[start : start + step]
+        if not np.array_equal(chunk, np.arange(start, start + chunk.size) // per):
+            return None
+    return per
+
+
+def _compact_view(f: _File, name: str, values: np.ndarray) -> np.ndarray:
+    """A view matched to the surface elements, kept small when its layout allows.
+
+    The ``pentagon`` view of the files blockmesh writes numbers the elements ``per`` at a time
+    (``f.per``): it is kept as a broadcast ``(M, per)`` view of ``0..M-1``, and the ``parent``
+    view, then constant on each group, as one value per pentagon.
+    """
+    if name == "pentagon":
+        per = _grouping(values)
+        if per is not None:
+            f.per = per
+            m = values.size // per
+            return np.broadcast_to(np.arange(m)[:, None], (m, per))
+    elif name == "parent" and f.per and values.size % f.per == 0:
+        grouped = values.reshape(-1, f.per)
+        if all(np.array_equal(grouped[:, j], grouped[:, 0]) for j in range(1, f.per)):
+            f.parent_per = f.per
+            return np.array(grouped[:, 0])
+    return values
 
 
 def _parse(path: Path) -> _File:
@@ -225,19 +300,21 @@ def _parse(path: Path) -> _File:
                     f.meta = decode_metadata(body[0].strip(), where)
                 continue
             r.lines_until(end)
-    if f.coords is None or not f.surface.rows:
+    if f.coords is None or not f.surface.nodes:
         raise ExportError(f"{where} has no $Nodes or no surface elements in $Elements")
     return f
 
 
 def _values_for(
-    tags: np.ndarray, view: tuple[np.ndarray, np.ndarray], what: str, where: str
+    tags: np.ndarray, view: tuple[np.ndarray | None, np.ndarray], what: str, where: str
 ) -> np.ndarray:
     """The view's value for each element tag in ``tags``.
 
     O(K) when the view lists the elements in file order, as blockmesh writes it, else O(K log K).
     """
     vtags, values = view
+    if vtags is None:  # already matched to the elements while parsing
+        return values
     skip = vtags.size - tags.size
     if skip >= 0 and np.array_equal(vtags[skip:], tags):
         return values[skip:]
@@ -264,24 +341,30 @@ def read_msh(path: Path) -> Mesh:
 def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     """The arguments of :func:`mesh_from_arrays` from a parsed file."""
     meta = f.meta
-    assert f.coords is not None and f.node_tags is not None
-    tags, nodes, entity = f.surface.joined(3)
+    assert f.coords is not None and f.to_index is not None
+    tags, nodes = f.surface.joined(3)
     if "pentagon" in f.views:
-        pentagon = _values_for(tags, f.views["pentagon"], "pentagon", where)
-        parent_view = f.views.get("parent")
+        pentagon = _values_for(tags, f.views.pop("pentagon"), "pentagon", where)
+        parent_view = f.views.pop("parent", None)
     elif "parent" in f.views and meta.get("layout") is None:  # blockmesh 0.1
-        pentagon, parent_view = _values_for(tags, f.views["parent"], "parent", where), None
+        pentagon, parent_view = _values_for(tags, f.views.pop("parent"), "parent", where), None
     else:
         raise ExportError(
             f'{where} has no "pentagon" element data, so its elements cannot be merged back into '
             "pentagons; blockmesh reads the .msh files it writes (blockmesh.io.write(...))"
         )
-
+    # the per-element parent, a view of the file's values (their tags are freed here)
+    parent_values = None if parent_view is None else _values_for(tags, parent_view, "parent", where)
+    del parent_view
+    order = None
     if tags.size > 1 and np.any(tags[1:] <= tags[:-1]):  # saved by another tool: tag order
         order = np.argsort(tags, kind="stable")
-        tags, nodes, entity, pentagon = tags[order], nodes[order], entity[order], pentagon[order]
-    to_index = _node_index(f.node_tags)
+        nodes, pentagon = nodes[order], np.reshape(pentagon, -1)[order]
+    f.surface.tags.clear()  # the element tags are no longer needed
+    del tags
+    to_index = f.to_index
     conn = to_index(nodes, "elements", where)
+    f.surface.nodes.clear()
     del nodes
     n_points = meta.get("n_points")
     corner_nodes = (
@@ -290,28 +373,31 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     merged = merge_elements(
         conn, pentagon, f.coords, where=where, split=meta.get("split"), corner_nodes=corner_nodes
     )
-    del conn
-    _, line_nodes, line_entity = f.lines.joined(2)
+    del conn, pentagon
+    _, line_nodes = f.lines.joined(2)
     lines, first = join_lines(
         to_index(line_nodes, "boundary lines", where), merged.is_corner, where
     )
-    line_entity = line_entity[first]
+    line_entity = f.lines.entity(first)
     if merged.point_index is None:
-        points = f.coords[:corner_nodes]
+        points = np.array(f.coords[:corner_nodes])
     else:
         assert merged.renumber is not None
         points = f.coords[merged.point_index]
         lines = merged.renumber[lines]
+    f.coords = None  # freed before the Mesh is built
 
     region_of_tag, region_names = _groups(f, 2, meta.get("region_names"))
     patch_of_tag, patch_names = _groups(f, 1, meta.get("patch_names"))
-    entity_of_cell = entity[merged.first_element]
+    # each pentagon's first element, as a position in the file
+    element = merged.first_element if order is None else order[merged.first_element]
+    entity_of_cell = f.surface.entity(element)
     region = _lookup(f, entity_of_cell, 2, region_of_tag, where)
     patch = _lookup(f, line_entity, 1, patch_of_tag, where)
     block_id = _block_ids(meta, entity_of_cell, where)
     parent = None
-    if parent_view is not None:
-        parent = _values_for(tags, parent_view, "parent", where)[merged.first_element]
+    if parent_values is not None:
+        parent = parent_values[element // f.parent_per if f.parent_per else element]
     return {
         "points": points,
         "cells": merged.cells,
@@ -367,7 +453,9 @@ def _node_index(node_tags: np.ndarray) -> Callable[[np.ndarray, str, str], np.nd
     of the elements), so they hold indices afterwards.
     """
     n = node_tags.size
-    consecutive = n == 0 or (node_tags[0] == 1 and np.array_equal(node_tags, np.arange(1, n + 1)))
+    consecutive = n == 0 or (
+        node_tags[0] == 1 and node_tags[-1] == n and bool(np.all(np.diff(node_tags) == 1))
+    )
     index_of = None
     if not consecutive:
         index_of = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)

@@ -362,12 +362,17 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
             cell_of.append(
                 owner[start - first_boundary : start - first_boundary + face_of[k].shape[0]]
             )
-    rows = np.concatenate(fronts)
-    cells_of = np.concatenate(cell_of)
+    for _, _, _, k in spans:  # the front and back faces are freed with ``rows``
+        if patches[k].get("type") == "empty":
+            del face_of[k]
+    rows = fronts[0] if len(fronts) == 1 else np.concatenate(fronts)
+    cells_of = cell_of[0] if len(cell_of) == 1 else np.concatenate(cell_of)
+    del fronts, cell_of, faces
     if rows.size and rows.max() >= n_points:
         raise ExportError(f"{where}: faces name points beyond the {n_points} in the points file")
     bottom = np.all(on_bottom[rows], axis=1)
     rows, cells_of = rows[bottom], cells_of[bottom]
+    del owner, bottom
     if (
         cells_of.size != n_cells
         or np.unique(cells_of).size != n_cells
@@ -376,7 +381,7 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         raise ExportError(f"{where}: not every cell has exactly one face on the z = {zmin} plane")
     cells = np.empty((n_cells, 5), dtype=np.int64)
     cells[cells_of] = rows[:, ::-1]  # the back face runs clockwise seen from +z
-    del rows, cells_of, fronts, cell_of
+    del rows, cells_of
     xy = points[:, :2]
     for start in range(0, n_cells, _CHUNK):
         block = cells[start : start + _CHUNK]
@@ -385,7 +390,17 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
 
     used = np.zeros(points.shape[0], dtype=bool)
     used[cells] = True
-    new_id = np.cumsum(used) - 1
+    kept = int(np.count_nonzero(used))
+    if used[:kept].all():  # the bottom points first, as blockmesh writes them: ids unchanged
+        new_id = None
+        points_2d = np.array(xy[:kept])
+    else:
+        new_id = np.cumsum(used) - 1
+        points_2d = xy[used]
+        for start in range(0, n_cells, _CHUNK):  # renumbered in place, a chunk at a time
+            block = cells[start : start + _CHUNK]
+            block[...] = new_id[block]
+    del points, xy, used
     edges: list[np.ndarray] = []
     patch: list[np.ndarray] = []
     names: list[str] = []
@@ -403,15 +418,18 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         edges.append(np.stack([quad[rows_, i], quad[rows_, (i + 1) % 4]], axis=1))
         patch.append(np.full(quad.shape[0], len(names)))
         names.append(p["name"])
+    boundary_edges = np.concatenate(edges) if edges else np.empty((0, 2), np.int64)
+    if new_id is not None:
+        boundary_edges = new_id[boundary_edges]
     zones = _read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
     return {
-        "points": xy[used],
-        "cells": new_id[cells],
+        "points": points_2d,
+        "cells": cells,
         "region": region,
         "region_names": region_names,
-        "boundary_edges": new_id[np.concatenate(edges)] if edges else np.empty((0, 2), np.int64),
+        "boundary_edges": boundary_edges,
         "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
         "patch_names": names,
         "name": case.name,

@@ -76,37 +76,38 @@ def _from_split(
     m = conn.shape[0] // per
     grouped = pentagon.reshape(m, per)
     ids = grouped[:, 0]
-    if not np.all(grouped == ids[:, None]):
+    if not all(np.array_equal(grouped[:, j], ids) for j in range(1, per)):
         return None
-    if m and (ids.min() < 0 or ids.max() >= m or np.any(np.bincount(ids, minlength=m) != 1)):
+    in_order = m < 2 or bool(np.all(ids[1:] > ids[:-1]))  # then ids is 0..m-1 if in range
+    if m and in_order and (ids[0] != 0 or ids[-1] != m - 1):
+        return None
+    if (
+        m
+        and not in_order
+        and (ids.min() < 0 or ids.max() >= m or np.any(np.bincount(ids, minlength=m) != 1))
+    ):
         return None
     kids = conn.reshape(m, per, width)
-    if split == "tri3":
-        # the fan (c0 c1 c2), (c0 c2 c3), (c0 c3 c4): compared column by column, so that the
-        # temporaries are flags per pentagon, not copies of the elements
-        ok = all(
-            np.array_equal(kids[:, i, j], kids[:, k, l])
-            for (i, j), (k, l) in (
-                ((1, 0), (0, 0)),
-                ((2, 0), (0, 0)),
-                ((1, 1), (0, 2)),
-                ((2, 1), (1, 2)),
-            )
-        )
-        cells = np.column_stack(
-            [kids[:, 0, 0], kids[:, 0, 1], kids[:, 0, 2], kids[:, 1, 2], kids[:, 2, 2]]
-        )
-    else:
-        cells = kids[:, :, 0]
-        same_centre = bool(np.all(kids[:, :, 2] == kids[:, :1, 2]))
-        if split == "tri5":
-            ok = same_centre and np.array_equal(kids[:, :, 1], np.roll(cells, -1, axis=1))
-        else:
-            ok = same_centre and np.array_equal(kids[:, :, 3], np.roll(kids[:, :, 1], 1, axis=1))
-    if not ok:
+    # checked and copied column by column: the temporaries are flags per pentagon, not copies
+    # of the elements
+    if split == "tri3":  # the fan (c0 c1 c2), (c0 c2 c3), (c0 c3 c4)
+        same = [((1, 0), (0, 0)), ((2, 0), (0, 0)), ((1, 1), (0, 2)), ((2, 1), (1, 2))]
+        columns = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2)]
+    else:  # corner j is node 0 of element j; all share the centre (node 2)
+        same = [((j, 2), (0, 2)) for j in range(1, 5)]
+        if split == "tri5":  # element j is (c_j, c_j+1, centre)
+            same += [((j, 1), ((j + 1) % 5, 0)) for j in range(5)]
+        else:  # element j is (c_j, m_j, centre, m_j-1)
+            same += [((j, 3), ((j - 1) % 5, 1)) for j in range(5)]
+        columns = [(j, 0) for j in range(5)]
+    if not all(np.array_equal(kids[:, i, j], kids[:, k, l]) for (i, j), (k, l) in same):
         return None
     out = np.empty((m, 5), dtype=np.int64)
-    out[ids] = cells
+    for c, (i, j) in enumerate(columns):
+        if in_order:
+            out[:, c] = kids[:, i, j]
+        else:
+            out[ids, c] = kids[:, i, j]
     first = np.empty(m, dtype=np.int64)
     first[ids] = np.arange(m, dtype=np.int64) * per
     return out, first
@@ -220,8 +221,10 @@ def merge_elements(
     ----------
     conn : ndarray (K, k)
         Node ids (rows of ``points``) of each element.
-    pentagon : ndarray (K,)
-        The pentagon each element comes from, 0..M-1.
+    pentagon : ndarray (K,) or (M, K / M)
+        The pentagon each element comes from, 0..M-1 (as a 2-D array: the elements' values in
+        rows of K / M, e.g. a broadcast ``(M, 5)`` view when the elements of pentagon ``p`` are
+        rows ``5 p .. 5 p + 4``).
     points : ndarray (N', 2)
     where : str
         Names the file in errors.
@@ -244,7 +247,7 @@ def merge_elements(
         if corner_nodes is not None:
             is_node = np.zeros(n, dtype=bool)
             is_node[:corner_nodes] = True
-        cells, first = _from_outlines(conn, pentagon, points, is_node, where)
+        cells, first = _from_outlines(conn, np.reshape(pentagon, -1), points, is_node, where)
     is_corner = np.zeros(n, dtype=bool)
     is_corner[cells] = True
     if (

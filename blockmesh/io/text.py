@@ -285,7 +285,7 @@ class TextReader:
     ([[1.0, 0.5], [2.0, 1.5]], b'$EndNodes')
     """
 
-    def __init__(self, file: _Readable, where: str, *, chunk: int = 1 << 24) -> None:
+    def __init__(self, file: _Readable, where: str, *, chunk: int = 1 << 22) -> None:
         self.file = file
         self.where = where
         self.chunk = chunk
@@ -389,8 +389,40 @@ class TextReader:
         ``(x y z)`` and ``4(a b c d)``). Raises :class:`ExportError` naming the lines when they do
         not hold ``cols`` numbers each.
         """
+        return self._table(rows, cols, dtype, out_dtype, blank, keep, tagged=False)[1]
+
+    def tagged_table(
+        self, rows: int, cols: int, dtype: type, out_dtype: type | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        r""":meth:`table`, its first column (tags) apart: ``(rows,)`` and ``(rows, cols - 1)``.
+
+        Both are contiguous: the tags can be dropped without a copy of the rest.
+
+        Examples
+        --------
+        >>> import io
+        >>> r = TextReader(io.BytesIO(b"7 1 2\n8 3 4\n"), "x")
+        >>> [a.tolist() for a in r.tagged_table(2, 3, np.int64)]
+        [[7, 8], [[1, 2], [3, 4]]]
+        """
+        tags, table = self._table(rows, cols, dtype, out_dtype, b"", None, tagged=True)
+        assert tags is not None
+        return tags, table
+
+    def _table(
+        self,
+        rows: int,
+        cols: int,
+        dtype: type,
+        out_dtype: type | None,
+        blank: bytes,
+        keep: int | None,
+        *,
+        tagged: bool,
+    ) -> tuple[np.ndarray | None, np.ndarray]:
         spaces = bytes.maketrans(blank, b" " * len(blank)) if blank else None
         width = cols if keep is None else keep
+        lead = int(tagged)
         left = None if self._size is None else self._size - self._read + len(self._buf) - self._pos
         if rows < 0 or (left is not None and rows * cols * 2 > left + 1):
             raise ExportError(
@@ -398,7 +430,8 @@ class TextReader:
                 f"numbers is announced, but the file has only {left} bytes left (damaged?)"
             )
         try:
-            out: np.ndarray = np.empty((rows, width), dtype=out_dtype or dtype)
+            out: np.ndarray = np.empty((rows, width - lead), dtype=out_dtype or dtype)
+            lead_column = np.empty(rows, dtype=out.dtype) if tagged else None
         except (MemoryError, ValueError):
             raise ExportError(
                 f"{self.where}, line {self.line_number}: a table of {rows} lines is too large"
@@ -429,12 +462,15 @@ class TextReader:
                         f"{self.where}, lines {self.line_number + 1}..{self.line_number + k}: "
                         f"numbers beyond {out.dtype} ({values.min()}..{values.max()})"
                     )
-            out[done : done + k] = values.reshape(k, cols)[:, :width]
+            table = values.reshape(k, cols)
+            out[done : done + k] = table[:, lead:width]
+            if lead_column is not None:
+                lead_column[done : done + k] = table[:, 0]
             done += k
             self.line_number += k
             if self._pos >= len(self._buf):
                 self._more()
-        return out
+        return lead_column, out
 
     def skip(self, n_lines: int) -> None:
         """Skip the next ``n_lines`` lines without parsing them."""

@@ -20,6 +20,10 @@ name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its U
 blockmesh reads back. meshio does not write field data, so it is added to the XML after meshio
 has written the file; meshio and VTK read it back.
 
+Reading: the files blockmesh writes are decoded in chunks straight into the mesh's arrays
+(:mod:`blockmesh.io.vtu_stream`, about 1.7x the mesh at its peak); other VTU files, and damaged
+ones, are read with meshio.
+
 Compression: ``"zlib"`` (the default: ParaView reads it everywhere, about 3x smaller for little
 time), ``"lzma"`` (smaller still, several times slower), ``"none"`` (raw base64, fastest).
 
@@ -54,6 +58,7 @@ from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
+from .vtu_stream import read_stream
 
 __all__ = [
     "FORMAT",
@@ -61,6 +66,8 @@ __all__ = [
     "mesh_from_meshio",
     "meshio_arrays",
     "meshio_mesh",
+    "own_arrays",
+    "padded_arrays",
     "read_vtu",
     "write_vtu",
 ]
@@ -222,15 +229,77 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
     }
 
 
+def padded_arrays(
+    points: np.ndarray,
+    cells: np.ndarray,
+    edges: np.ndarray,
+    cell_data: dict[str, tuple[np.ndarray, np.ndarray]],
+    fields: dict[str, np.ndarray],
+    meta: dict,
+) -> dict[str, Any]:
+    """The arguments of :func:`mesh_from_arrays` from a VTK file's arrays, read directly.
+
+    ``cell_data`` maps ``block_id``, ``region``, ``parent`` and ``patch`` (those present) to
+    their values on the polygons and on the lines; names from ``meta`` or the field data.
+    """
+
+    def on(name: str, part: int) -> np.ndarray | None:
+        return cell_data[name][part] if name in cell_data else None
+
+    patch = on("patch", 1)
+    return {
+        "points": points,
+        "cells": cells,
+        "block_id": on("block_id", 0),
+        "parent": on("parent", 0),
+        "region": on("region", 0),
+        "region_names": _names(meta, fields, "region"),
+        "boundary_edges": edges,
+        "boundary_patch": patch,
+        "patch_names": _names(meta, fields, "patch")
+        or (None if patch is not None else ["boundary"]),
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+    }
+
+
+def own_arrays(arrays: dict[str, Any]) -> dict[str, Any]:
+    """``arrays`` (from :func:`meshio_arrays`) replaced one by one by compact native copies.
+
+    meshio's arrays are views (the polygons and the lines of one connectivity array, big-endian
+    for legacy VTK, points with a z column) that :func:`mesh_from_arrays` would copy all at once
+    while they are alive; copied here one at a time, each of meshio's buffers is freed as its last
+    view is replaced (once the meshio mesh itself is gone). Returns ``arrays``.
+    """
+    for key in list(arrays):
+        value = arrays[key]
+        if isinstance(value, np.ndarray):
+            if key == "points" and value.ndim == 2:
+                value = value[:, :2]
+            arrays[key] = np.array(value, dtype=value.dtype.newbyteorder("="), order="C")
+            del value
+    return arrays
+
+
 def read_vtu(path: Path) -> Mesh:
     """Read a VTU file of pentagons (and boundary lines), as written by :func:`write_vtu`.
 
     Files from elsewhere are read too when their polygons are all pentagons: missing data gets
-    the defaults of :func:`blockmesh.io._common.mesh_from_arrays`.
+    the defaults of :func:`blockmesh.io._common.mesh_from_arrays`. The files blockmesh wrote are
+    read in chunks straight into the mesh's arrays (:mod:`blockmesh.io.vtu_stream`); others, and
+    damaged ones, with meshio.
     """
+    where = str(path)
+    parts = read_stream(Path(path))
+    if parts is not None:
+        meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
+        arrays = padded_arrays(
+            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta
+        )
+        del parts  # the -1 padding of the cell data is freed before the Mesh is built
+        return mesh_from_arrays(where=where, **arrays)
     import meshio
 
-    where = str(path)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -240,8 +309,8 @@ def read_vtu(path: Path) -> Mesh:
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
     arrays = meshio_arrays(vm, meta, where)
-    del vm  # meshio's copies are freed before the Mesh is built
-    return mesh_from_arrays(where=where, **arrays)
+    del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
+    return mesh_from_arrays(where=where, **own_arrays(arrays))
 
 
 FORMAT = Format(

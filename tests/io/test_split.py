@@ -100,3 +100,18 @@ def test_a_tri3_fan_from_another_corner_is_merged_by_its_outline(mesh: Mesh) -> 
     cells[:3] = [[c[1], c[2], c[3]], [c[1], c[3], c[4]], [c[1], c[4], c[0]]]
     got = merge_elements(cells, s.parent, s.points, where="x", split="tri3")
     np.testing.assert_array_equal(canonical(got.cells), canonical(mesh.cells))
+
+
+@pytest.mark.parametrize("split", ["tri5", "tri3", "quad5"])
+def test_pentagons_in_another_order_keep_the_quick_merge(mesh: Mesh, split: str) -> None:
+    """Whole pentagons shuffled (each one's elements still together, in order) are merged by
+    the split itself, each back to its own id."""
+    s = bio.split_cells(mesh, split)
+    per = s.cells.shape[0] // mesh.n_cells
+    shuffle = np.random.default_rng(2).permutation(mesh.n_cells)
+    rows = (shuffle[:, None] * per + np.arange(per)).ravel()
+    got = merge_elements(
+        s.cells[rows], s.parent[rows], s.points, where="x", split=split, corner_nodes=mesh.n_points
+    )
+    np.testing.assert_array_equal(got.cells, mesh.cells)
+    np.testing.assert_array_equal(got.first_element[shuffle], np.arange(mesh.n_cells) * per)

@@ -9,7 +9,8 @@ import pytest
 from helpers_io import assert_same, expected_names, paraview_names, tagged, vtk_connectivity
 
 import blockmesh.io as bio
-from blockmesh.io import legacy_vtk
+from blockmesh.errors import ExportError
+from blockmesh.io import legacy_vtk, vtk_stream
 from blockmesh.mesh import Mesh
 
 
@@ -73,3 +74,39 @@ def test_paraview_shows_the_names(mesh: Mesh, tmp_path: Path) -> None:
     cells, names = paraview_names(path)
     assert cells == mesh.n_cells + mesh.boundary_edges.shape[0]
     assert names == expected_names(mesh)
+
+
+def test_blockmesh_files_are_read_directly(
+    mesh: Mesh, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The files blockmesh writes are read without meshio, to the same mesh, also when the
+    points, offsets and types span many chunks."""
+    monkeypatch.setattr(vtk_stream, "_ROWS", 7)
+    path = bio.write(mesh, tmp_path / "m.vtk")
+    parts = vtk_stream.read_stream(path)
+    assert parts is not None
+    np.testing.assert_array_equal(parts["points"], mesh.points)
+    np.testing.assert_array_equal(parts["cells"], mesh.cells)
+    np.testing.assert_array_equal(parts["edges"], mesh.boundary_edges)
+    np.testing.assert_array_equal(parts["cell_data"]["parent"][0], mesh.parent)
+    np.testing.assert_array_equal(parts["cell_data"]["patch"][1], mesh.boundary_patch)
+    back = bio.read(path)
+    assert_same(back, mesh)
+    assert (back.name, back.level) == (mesh.name, mesh.level)
+
+
+def test_other_files_fall_back_to_meshio(mesh: Mesh, tmp_path: Path) -> None:
+    """Files of another layout (ascii, from meshio) or damaged ones go to meshio."""
+    import meshio
+
+    plain = tmp_path / "plain.vtk"
+    meshio.write(plain, meshio.Mesh(mesh.points, [("polygon", mesh.cells)]), binary=False)
+    assert vtk_stream.read_stream(plain) is None
+    np.testing.assert_array_equal(bio.read(plain).cells, mesh.cells)
+    path = bio.write(mesh, tmp_path / "m.vtk")
+    data = path.read_bytes()
+    cut = data.index(b"CELL_TYPES")
+    path.write_bytes(data[: cut - 16] + data[cut:])  # the connectivity cut short
+    assert vtk_stream.read_stream(path) is None
+    with pytest.raises(ExportError, match="m.vtk"):
+        bio.read(path)

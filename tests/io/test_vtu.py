@@ -10,7 +10,8 @@ import pytest
 from helpers_io import assert_same, expected_names, paraview_names, tagged, vtk_connectivity
 
 import blockmesh.io as bio
-from blockmesh.io import vtu
+from blockmesh.errors import ExportError
+from blockmesh.io import vtu, vtu_stream
 from blockmesh.mesh import Mesh
 
 
@@ -96,3 +97,66 @@ def test_paraview_shows_the_names(mesh: Mesh, tmp_path: Path) -> None:
     cells, names = paraview_names(path)
     assert cells == mesh.n_cells + mesh.boundary_edges.shape[0]
     assert names == expected_names(mesh)
+
+
+@pytest.mark.parametrize("compression", ["zlib", "lzma", "none"])
+@pytest.mark.parametrize("header", [None, "UInt64"])
+def test_blockmesh_files_are_streamed(
+    mesh: Mesh, tmp_path: Path, compression: str, header: str | None
+) -> None:
+    """The files blockmesh writes are read by the streaming reader (not meshio), to the same mesh,
+    whether the block headers are UInt32 or UInt64 (large meshes) and base64 chunks split rows."""
+    import meshio
+
+    path = bio.write(mesh, tmp_path / "m.vtu", compression=compression)
+    if header:  # what write_vtu does for meshes of 2 GB or more
+        raw = tmp_path / "raw.vtu"
+        meshio.vtu.write(
+            str(raw),
+            vtu.meshio_mesh(mesh),
+            compression=None if compression == "none" else compression,
+            header_type=header,
+        )
+        vtu._insert_field_data(raw, path, vtu.field_data(mesh))
+    parts = vtu_stream.read_stream(path)
+    assert parts is not None
+    np.testing.assert_array_equal(parts.points, mesh.points)
+    np.testing.assert_array_equal(parts.cells, mesh.cells)
+    np.testing.assert_array_equal(parts.edges, mesh.boundary_edges)
+    np.testing.assert_array_equal(parts.cell_data["patch"][1], mesh.boundary_patch)
+    assert np.all(parts.cell_data["block_id"][1] == -1)
+    back = bio.read(path)
+    assert_same(back, mesh)
+    assert (back.level, back.name) == (mesh.level, mesh.name)
+
+
+def test_small_chunks_give_the_same_arrays(
+    mesh: Mesh, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Arrays spanning many read chunks (and rows split across them) decode the same."""
+    monkeypatch.setattr(vtu_stream, "_CHUNK", 64)
+    for compression in ("zlib", "none"):
+        path = bio.write(mesh, tmp_path / f"{compression}.vtu", compression=compression)
+        parts = vtu_stream.read_stream(path)
+        assert parts is not None
+        np.testing.assert_array_equal(parts.points, mesh.points)
+        np.testing.assert_array_equal(parts.cells, mesh.cells)
+        np.testing.assert_array_equal(parts.cell_data["parent"][0], mesh.parent)
+
+
+def test_other_files_fall_back_to_meshio(mesh: Mesh, tmp_path: Path) -> None:
+    """Files blockmesh did not write (no metadata, ascii arrays) or damaged ones go to meshio."""
+    import meshio
+
+    plain = tmp_path / "plain.vtu"
+    meshio.write(plain, meshio.Mesh(mesh.points, [("polygon", mesh.cells)]), binary=False)
+    assert vtu_stream.read_stream(plain) is None
+    np.testing.assert_array_equal(bio.read(plain).cells, mesh.cells)
+    path = bio.write(mesh, tmp_path / "m.vtu")
+    data = path.read_bytes()
+    at = data.index(b'Name="connectivity"')
+    at = data.index(b"\n", at) + 40
+    path.write_bytes(data[:at] + b"*" + data[at + 1 :])  # not base64 any more
+    assert vtu_stream.read_stream(path) is None
+    with pytest.raises(ExportError, match="m.vtu"):
+        bio.read(path)
