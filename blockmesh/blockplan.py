@@ -35,6 +35,7 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -243,13 +244,22 @@ def place_level(local: np.ndarray, step, lo: int) -> None:
         )
 
 
-def place_block(template: PentagonTemplate, corners: np.ndarray, out: np.ndarray) -> np.ndarray:
+def place_block(
+    template: PentagonTemplate,
+    corners: np.ndarray,
+    out: np.ndarray,
+    after_level: Callable[[np.ndarray, int], None] | None = None,
+) -> np.ndarray:
     """Coordinates (complex128) of all template nodes of one block with ``corners`` (5,) complex.
 
     ``out`` (n_L,) complex128 is filled and returned. O(n_L), the paper's arithmetic.
+    ``after_level(out, level)``, when given, runs after each level and may change that level's
+    nodes in place (the curve-aware rule of :class:`blockmesh.curved_refinement.CurvedBlocks`).
     """
     out[:5] = corners
     view = out[None, :]
     for level in range(1, template.level + 1):
         place_level(view, template.steps[level - 1], node_count(level - 1))
+        if after_level is not None:
+            after_level(out, level)
     return out
