@@ -35,7 +35,9 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -142,21 +144,34 @@ def edge_node_ids(plan: RefinementPlan, block: int, edge: int) -> np.ndarray:
     if plan.taken[block, edge]:
         lower, lower_edge = divmod(int(plan.neighbour[block, edge]), 5)
         return edge_node_ids(plan, lower, lower_edge)[::-1].copy()
-    template = pentagon_template(plan.steps)
-    along = template.edge_nodes[edge]
-    inner = along[1:-1]
-    bounds = _level_bounds(plan.steps)
+    level, rank = _edge_ranks(plan.steps, edge, tuple(plan.taken[block].tolist()))
+    ids = np.empty(rank.size + 2, dtype=np.int64)
+    ids[0] = plan.cells[block, edge]
+    ids[-1] = plan.cells[block, (edge + 1) % 5]
+    ids[1:-1] = plan.offsets[level, block] + rank
+    return ids
+
+
+@lru_cache(maxsize=256)
+def _edge_ranks(steps: int, edge: int, taken: tuple[bool, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Level and rank among the block's own new nodes of that level, of each node inside ``edge``.
+
+    Depends only on the template and on which edges (``taken``) a lower block numbers, so it is
+    computed once per combination (2^steps - 1 entries each).
+    """
+    template = pentagon_template(steps)
+    inner = template.edge_nodes[edge][1:-1]
+    bounds = _level_bounds(steps)
     level = np.searchsorted(bounds, inner, side="right")
     first = bounds[level - 1]
     skipped = np.zeros(inner.size, dtype=np.int64)
-    for other in np.flatnonzero(plan.taken[block]):
+    for other in np.flatnonzero(taken):
         nodes = np.sort(template.edge_nodes[other][1:-1])
         skipped += np.searchsorted(nodes, inner) - np.searchsorted(nodes, first)
-    ids = np.empty(along.size, dtype=np.int64)
-    ids[0] = plan.cells[block, edge]
-    ids[-1] = plan.cells[block, (edge + 1) % 5]
-    ids[1:-1] = plan.offsets[level, block] + (inner - first) - skipped
-    return ids
+    rank = (inner - first) - skipped
+    level.setflags(write=False)
+    rank.setflags(write=False)
+    return level, rank
 
 
 def block_node_ids(
@@ -243,13 +258,22 @@ def place_level(local: np.ndarray, step, lo: int) -> None:
         )
 
 
-def place_block(template: PentagonTemplate, corners: np.ndarray, out: np.ndarray) -> np.ndarray:
+def place_block(
+    template: PentagonTemplate,
+    corners: np.ndarray,
+    out: np.ndarray,
+    after_level: Callable[[np.ndarray, int], None] | None = None,
+) -> np.ndarray:
     """Coordinates (complex128) of all template nodes of one block with ``corners`` (5,) complex.
 
     ``out`` (n_L,) complex128 is filled and returned. O(n_L), the paper's arithmetic.
+    ``after_level(out, level)``, when given, runs after each level and may change that level's
+    nodes in place (the curve-aware rule of :class:`blockmesh.curved_refinement.CurvedBlocks`).
     """
     out[:5] = corners
     view = out[None, :]
     for level in range(1, template.level + 1):
         place_level(view, template.steps[level - 1], node_count(level - 1))
+        if after_level is not None:
+            after_level(out, level)
     return out

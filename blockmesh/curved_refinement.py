@@ -1,9 +1,11 @@
 """Refinement of cells with curved edges: midpoints on the curve, a centre that keeps cells valid.
 
 :func:`blockmesh.refine` computes every node with the paper's straight arithmetic; when the mesh
-has curves (``Mesh.curves``) it then calls :func:`place_on_curves`, which recomputes the nodes of
-only the base cells with a curved edge, level by level, with the curve-aware rule
-(``docs/mathematics.md`` §1 and the curved-edge paragraph of §6):
+has curves (``Mesh.curves``), the base cells with a curved edge follow, level by level, the
+curve-aware rule (``docs/mathematics.md`` §1 and the curved-edge paragraph of §6) in the same pass
+(:class:`CurvedBlocks` recomputes after each level only the nodes of the parents touching a curve;
+with smoothing, :func:`place_on_curves` recomputes the curved cells after the straight
+refinement):
 
 - the midpoint ``u`` of a cell edge lying on a curved block edge is the curve's point at the mean
   of the edge's two parameters (so every node on the edge is the curve's point at ``k/2^L``, and
@@ -47,6 +49,7 @@ if TYPE_CHECKING:
     from .mesh import Mesh
 
 __all__ = [
+    "CurvedBlocks",
     "curved_block_levels",
     "curved_cell_nodes",
     "curved_slots",
@@ -87,6 +90,23 @@ def _edge_midpoints(step: int, level: int) -> tuple[tuple[np.ndarray, ...], ...]
         position[template.edge_nodes[e]] = np.arange(template.edge_nodes.shape[1])
         out.append((j, k, position[u_ids[j, k]]))
     return tuple(out)
+
+
+@cache
+def _curved_parents(step: int, level: int, edges: tuple[int, ...]):
+    """The parents at ``step`` with an edge on one of the block edges ``edges``, and those edges.
+
+    Returns ``(v_ids, u_ids, w_ids, on_curve)``: the local ids of the M parents' corners,
+    midpoints and inner points, each (M, 5), and per block edge of ``edges`` ``(j, k, position)``
+    (parent ``j`` of the M has its edge ``k`` on it, at point ``position`` along it).
+    """
+    parents, u_ids, w_ids = _step_ids(step)
+    midpoints = _edge_midpoints(step, level)
+    has = np.unique(np.concatenate([midpoints[e][0] for e in edges]))
+    on_curve = tuple(
+        (np.searchsorted(has, midpoints[e][0]), midpoints[e][1], midpoints[e][2]) for e in edges
+    )
+    return parents[has], u_ids[has], w_ids[has], on_curve
 
 
 def curved_block_levels(
@@ -258,6 +278,77 @@ def refined_curves(curves: CurvedEdges, rows: np.ndarray, along_ids: np.ndarray,
         stop=params[:, 1:].ravel(),
         curves=curves.curves,
     )
+
+
+class CurvedBlocks:
+    """The curve-aware rule applied in the same pass as the straight refinement, block by block.
+
+    The straight refinement (:func:`blockmesh.blockplan.place_level`) computes every node of a
+    level with the paper's arithmetic; :meth:`fix_level` then recomputes, in place, only the
+    nodes of the parents with an edge on a curved block edge: their midpoints on the curve, their
+    centre ``p = (2/5) Σ u_i - (1/5) Σ v_i`` and their inner points. Every other node of the
+    straight pass is already what :func:`curved_block_levels` computes (the same operations in
+    the same order), so a block's nodes are bit for bit those of :func:`curved_cell_nodes`, and
+    the curved blocks cost one refinement, not two.
+
+    Parameters
+    ----------
+    base : Mesh
+        The mesh refined; ``base.curves`` is not empty.
+    level : int
+        Levels of refinement.
+    """
+
+    def __init__(self, base: Mesh, level: int) -> None:
+        curves = base.curves
+        if curves is None or len(curves) == 0:
+            raise ValueError("CurvedBlocks needs a mesh with curved edges")
+        self.curves = curves
+        self.level = level
+        self.row, self.forward = curved_slots(base.cells, base.n_points, curves)
+        self.is_curved = np.any(self.row >= 0, axis=1)
+        table = edge_points(curves, level)
+        #: The curves' points along every curved edge, complex128 (E, 2^level + 1).
+        self.table = table.view(np.complex128)[..., 0]
+        self.along_ids = np.empty((len(curves), 2**level + 1), dtype=np.int64)
+
+    def along(self, block: int, edge: int) -> np.ndarray:
+        """Points (complex) along edge ``edge`` of ``block`` from its corner ``edge`` on."""
+        points = self.table[self.row[block, edge]]
+        return points if self.forward[block, edge] else points[::-1]
+
+    def fix_level(self, local: np.ndarray, step: int, block: int) -> None:
+        """Recompute the nodes new at ``step`` of ``block``'s parents touching a curved edge.
+
+        ``local`` (n_level,) complex128 holds the block's nodes in the template's numbering,
+        those of ``step`` from the straight arithmetic; it is modified in place.
+        """
+        edges = tuple(np.flatnonzero(self.row[block] >= 0).tolist())
+        v_ids, u_ids, w_ids, on_curve = _curved_parents(step, self.level, edges)
+        v = local[v_ids].view(np.float64).reshape(v_ids.shape[0], 5, 2)
+        u = local[u_ids]
+        for e, (j, k, position) in zip(edges, on_curve, strict=True):
+            u[j, k] = self.along(block, e)[position]
+        u = u.view(np.float64).reshape(u_ids.shape[0], 5, 2)
+        # The same expressions, on arrays of the same layout, as curved_block_levels.
+        p = 0.4 * u.sum(axis=1) - 0.2 * v.sum(axis=1)
+        w = u + p[:, None, :]
+        w *= 0.5
+        local[u_ids] = u.view(np.complex128)[..., 0]
+        local[w_ids] = w.view(np.complex128)[..., 0]
+
+    def record(self, block: int, ids: np.ndarray) -> None:
+        """Note the global ids ``ids`` (n_level,) of ``block``'s nodes along its curved edges."""
+        along = pentagon_template(self.level).edge_nodes
+        for edge in np.flatnonzero(self.row[block] >= 0).tolist():
+            nodes = ids[along[edge]]
+            self.along_ids[self.row[block, edge]] = (
+                nodes if self.forward[block, edge] else nodes[::-1]
+            )
+
+    def refined(self) -> CurvedEdges:
+        """The refined curved edges, once :meth:`record` has seen every curved block."""
+        return refined_curves(self.curves, np.arange(len(self.curves)), self.along_ids, self.level)
 
 
 def place_on_curves(base: Mesh, mesh: Mesh, level: int, smooth: int = 0) -> Mesh:

@@ -25,6 +25,7 @@ import math
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -49,6 +50,7 @@ __all__ = [
 NUMBERINGS = ("nested", "rcm")
 
 if TYPE_CHECKING:
+    from .curved_refinement import CurvedBlocks
     from .domain import Domain
 
 ProgressCallback = Callable[[int, int], None]
@@ -245,10 +247,6 @@ def refine(
     _check_precision(base, level)
     try:
         mesh = _build(base, neighbour, level, smooth, progress)
-        if base.curves is not None:  # cells with curved edges: see blockmesh.curved_refinement
-            from .curved_refinement import place_on_curves
-
-            mesh = place_on_curves(base, mesh, level, smooth)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -266,16 +264,38 @@ _CELLS_PER_BLOCK_ONE_BY_ONE = 6**5
 
 
 def _build(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
+    """The refined mesh; cells with curved edges follow the curve-aware rule in the same pass.
+
+    With smoothing, the straight refinement (smoothed across blocks) runs first and the curved
+    cells are then recomputed by :func:`~blockmesh.curved_refinement.place_on_curves`.
+    """
+    from .curved_refinement import CurvedBlocks, place_on_curves
+
+    has_curves = base.curves is not None and len(base.curves) > 0
+    curved = CurvedBlocks(base, level) if has_curves and not smooth else None
     single = (
         base.n_cells == 1 and base.n_points == 5 and np.array_equal(base.cells[0], np.arange(5))
     )
     if smooth or single or 6**level < _CELLS_PER_BLOCK_ONE_BY_ONE:
-        return _build_all_blocks(base, neighbour, level, smooth, progress)
-    return _build_block_by_block(base, neighbour, level, progress)
+        mesh = _build_all_blocks(base, neighbour, level, smooth, progress, curved)
+    else:
+        mesh = _build_block_by_block(base, neighbour, level, progress, curved)
+    if has_curves and curved is None:
+        return place_on_curves(base, mesh, level, smooth)
+    return mesh
 
 
-def _build_block_by_block(base: Mesh, neighbour: np.ndarray, level: int, progress) -> Mesh:
-    """Each block in turn: its node ids from the plan, its coordinates, its cells and boundary."""
+def _build_block_by_block(
+    base: Mesh,
+    neighbour: np.ndarray,
+    level: int,
+    progress,
+    curved: CurvedBlocks | None = None,
+) -> Mesh:
+    """Each block in turn: its node ids from the plan, its coordinates, its cells and boundary.
+
+    The blocks with a curved edge (``curved``) get the curve-aware rule level by level.
+    """
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     template = pentagon_template(level)
     n_local, per_block = template.n_nodes, 6**level
@@ -292,8 +312,12 @@ def _build_block_by_block(base: Mesh, neighbour: np.ndarray, level: int, progres
     )
     boundary_nodes = np.empty((cell.size, along.shape[1]), dtype=np.int64)
     for block in range(base.n_cells):
-        place_block(template, corners[base.cells[block]], local)
+        on_curve = curved if curved is not None and curved.is_curved[block] else None
+        fix = None if on_curve is None else partial(on_curve.fix_level, block=block)
+        place_block(template, corners[base.cells[block]], local, fix)
         _, numbered = block_node_ids(plan, block, out=ids)
+        if on_curve is not None:
+            on_curve.record(block, ids)
         shares = plan.taken[block].any()
         for step in range(1, level + 1):
             lo, hi = bounds[step - 1], bounds[step]
@@ -315,11 +339,27 @@ def _build_block_by_block(base: Mesh, neighbour: np.ndarray, level: int, progres
         boundary_nodes[here] = ids[along[edge[here]]]
         if progress is not None:
             progress(block + 1, base.n_cells)
-    return _assemble(base, boundary_nodes, points.view(np.float64).reshape(-1, 2), cells, level)
+    points_xy = points.view(np.float64).reshape(-1, 2)
+    return _assemble(base, boundary_nodes, points_xy, cells, level, curved)
 
 
-def _build_all_blocks(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
+def _build_all_blocks(
+    base: Mesh,
+    neighbour: np.ndarray,
+    level: int,
+    smooth: int,
+    progress,
+    curved: CurvedBlocks | None = None,
+) -> Mesh:
+    """All blocks at once, level by level, with whole-array operations.
+
+    The blocks with a curved edge (``curved``, only without smoothing) get the curve-aware rule.
+    """
     ids, n_nodes = _global_ids(base.cells, neighbour, base.n_points, level)
+    # (curve-aware rule, block) for every block with a curved edge.
+    curved_blocks = (
+        [] if curved is None else [(curved, b) for b in np.flatnonzero(curved.is_curved).tolist()]
+    )
     template = pentagon_template(level)
     identity = ids is None
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
@@ -334,6 +374,8 @@ def _build_all_blocks(base: Mesh, neighbour: np.ndarray, level: int, smooth: int
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
         _place_level(local, template.steps[step - 1], lo)
+        for rule, block in curved_blocks:
+            rule.fix_level(local[block], step, block)
         if smooth:
             level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
             points[ids[:, :hi]] = local[:, :hi]
@@ -343,6 +385,8 @@ def _build_all_blocks(base: Mesh, neighbour: np.ndarray, level: int, smooth: int
             local[:, :hi] = points[ids[:, :hi]]
         if progress is not None:
             progress(step, level)
+    for rule, block in curved_blocks:
+        rule.record(block, np.arange(template.n_nodes) if ids is None else ids[block])
     if not identity:
         np.put(points, ids, local, mode="clip")  # shared nodes get the same value twice
     del local
@@ -357,11 +401,16 @@ def _build_all_blocks(base: Mesh, neighbour: np.ndarray, level: int, smooth: int
         boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
     )
     boundary_nodes = along[edge] if ids is None else ids[cell[:, None], along[edge]]
-    return _assemble(base, boundary_nodes, points, cells, level)
+    return _assemble(base, boundary_nodes, points, cells, level, curved)
 
 
-def _assemble(base: Mesh, boundary_nodes, points, cells, steps: int) -> Mesh:
-    """The Mesh of the refined base; ``boundary_nodes`` (Eb, 2^steps + 1) along each base edge."""
+def _assemble(
+    base: Mesh, boundary_nodes, points, cells, steps: int, curved: CurvedBlocks | None = None
+) -> Mesh:
+    """The Mesh of the refined base; ``boundary_nodes`` (Eb, 2^steps + 1) along each base edge.
+
+    ``curved``, when given, has recorded every curved block: the mesh gets its refined curves.
+    """
     boundary_edges = np.stack([boundary_nodes[:, :-1], boundary_nodes[:, 1:]], axis=-1).reshape(
         -1, 2
     )
@@ -388,6 +437,7 @@ def _assemble(base: Mesh, boundary_nodes, points, cells, steps: int) -> Mesh:
         region_names=base.region_names,
         level=base.level + steps,
         name=base.name,
+        curves=None if curved is None else curved.refined(),
     )
 
 

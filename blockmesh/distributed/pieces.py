@@ -29,11 +29,12 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
 from ..blockplan import block_node_ids, edge_node_ids, place_block
-from ..curved_refinement import curved_cell_nodes, curved_slots, edge_points, refined_curves
+from ..curved_refinement import CurvedBlocks, refined_curves
 from ..mesh import Mesh
 from ..template import node_count, pentagon_template
 from .partition import Partitioning
@@ -189,22 +190,13 @@ def build_piece(parts: Partitioning, piece: int) -> Piece:
     for k, unit in enumerate(parts.boundary_unit[boundary_rows].tolist()):
         rows_of.setdefault(unit, []).append(k)
     curves = base.curves if base.curves is not None and len(base.curves) else None
-    if curves is not None:  # the units' curved edges (rows of base.curves), as refine does
-        unit_cells = base.cells[units.start : units.stop]
-        curve_row, curve_forward = curved_slots(unit_cells, base.n_points, curves)
-        table = edge_points(curves, steps)
+    # The curve-aware rule in the same pass as the straight arithmetic, as refine does.
+    rule = CurvedBlocks(base, steps) if curves is not None else None
     along_curve: dict[int, np.ndarray] = {}  # row of base.curves -> local ids along it
-    local_xy = local.view(np.float64).reshape(-1, 2)
     for unit in units:
-        place_block(template, corners_xy[base.cells[unit]], local)
-        u = unit - units.start
-        curved_unit = curves is not None and bool(np.any(curve_row[u] >= 0))
-        if curved_unit:
-            xy, moved = curved_cell_nodes(
-                base.points, unit_cells[u : u + 1], curve_row[u : u + 1],
-                curve_forward[u : u + 1], table, steps,
-            )  # fmt: skip
-            local_xy[moved[0]] = xy[0, moved[0]]
+        curved_unit = rule is not None and bool(rule.is_curved[unit])
+        fix = partial(rule.fix_level, block=unit) if rule is not None and curved_unit else None
+        place_block(template, corners_xy[base.cells[unit]], local, fix)
         _, numbered = block_node_ids(plan, unit, out=ids)
         # Corners and nodes of edges a lower partition numbered are not in the per-level runs.
         special = np.concatenate(
@@ -225,11 +217,11 @@ def build_piece(parts: Partitioning, piece: int) -> Piece:
         )
         for row in rows_of.get(unit, ()):
             boundary_nodes[row] = ids[along[int(parts.boundary_side[boundary_rows[row]])]]
-        if curved_unit:
-            for edge in np.flatnonzero(curve_row[u] >= 0).tolist():
+        if rule is not None and curved_unit:
+            for edge in np.flatnonzero(rule.row[unit] >= 0).tolist():
                 nodes = ids[along[edge]]
                 along_curve.setdefault(
-                    int(curve_row[u, edge]), nodes if curve_forward[u, edge] else nodes[::-1]
+                    int(rule.row[unit, edge]), nodes if rule.forward[unit, edge] else nodes[::-1]
                 )
     piece_curves = None
     if curves is not None:
