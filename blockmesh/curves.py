@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from abc import ABC, abstractmethod
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
@@ -91,7 +92,7 @@ def _parameters(t: Any) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Curve:
+class Curve(ABC):
     """What every curve offers; see :class:`Arc`, :class:`Spline` and :class:`Polyline`.
 
     Attributes
@@ -122,6 +123,7 @@ class Curve:
         bound._prepare(where)
         return bound
 
+    @abstractmethod
     def _prepare(self, where: str) -> None:
         """Compute and store the parametrisation; raise DomainError if the shape is invalid."""
         raise NotImplementedError
@@ -138,10 +140,12 @@ class Curve:
         return np.array(self.start), np.array(self.end)
 
     # ------------------------------------------------------------------ geometry
+    @abstractmethod
     def point(self, t: Any) -> np.ndarray:
         """Points at the parameters ``t`` (any shape), shape ``t.shape + (2,)``."""
         raise NotImplementedError
 
+    @abstractmethod
     def derivative(self, t: Any) -> np.ndarray:
         """Derivatives dγ/dt at the parameters ``t``, shape ``t.shape + (2,)``."""
         raise NotImplementedError
@@ -186,6 +190,7 @@ class Curve:
         b = np.where(ahead, right, left)
         return owner, a, b
 
+    @abstractmethod
     def segment_area(self, t0: Any, t1: Any) -> np.ndarray:
         """Signed area between the curve from ``t0`` to ``t1`` and its chord.
 
@@ -195,10 +200,12 @@ class Curve:
         raise NotImplementedError
 
     @property
+    @abstractmethod
     def length(self) -> float:
         """Length of the curve."""
         raise NotImplementedError
 
+    @abstractmethod
     def to_fields(self) -> dict[str, Any]:
         """The shape's defining values, as a domain file writes them (ends not included)."""
         raise NotImplementedError
@@ -407,7 +414,7 @@ class _Pieces(Curve):
             )
 
     def _prepare_pieces(self) -> None:
-        pass
+        """Precompute what evaluating the pieces needs (a hook: a polyline needs nothing more)."""
 
     def breaks(self) -> np.ndarray:
         """The parameters of the interior points."""
