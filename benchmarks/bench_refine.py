@@ -2,16 +2,17 @@
 
 Run: ``python benchmarks/bench_refine.py`` (needs ``pip install -e '.[bench]'`` for the peers).
 Prints ns per cell and cells per second for a single pentagon (the paper's SP) at levels 4-8,
-warm (template cached) and on the first call in a fresh process, every catalogue domain at level 7
-(and 8 where it fits in a few hundred MB) against SP in the same run, the peak memory over the
-output arrays, the template cache, and the peers meshing a comparable number of triangles of the
-same pentagon, with ratios. Not a test: timings on shared machines are noisy; each figure is
-the best of several runs after a warm-up.
+warm (template cached) and on the first call in a fresh process, every catalogue domain at the
+level that gives about 3 M cells (default threads and one thread) against SP in the same run, the
+peak memory over the output arrays, the template cache, and the peers meshing a comparable number
+of triangles of the same pentagon, with ratios. Not a test: timings on shared machines are
+noisy; each figure is the best of several runs after a warm-up.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import subprocess
 import sys
 import time
@@ -21,6 +22,7 @@ import numpy as np
 
 import blockmesh
 from blockmesh.catalogue import catalogue_names
+from blockmesh.grouped_refinement import default_threads
 from blockmesh.template import TEMPLATE_CACHE_BYTES, cached_template_bytes, pentagon_template
 
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
@@ -118,7 +120,6 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--gmsh-triangles", type=int, default=200_000)
-    parser.add_argument("--max-cells", type=int, default=15_000_000)
     args = parser.parse_args()
 
     sp = blockmesh.load_domain("sp")
@@ -140,29 +141,34 @@ def main() -> None:
         f"{6**8 / first / 1e6:.1f} M cells/s ({first / 6**8 * 1e9:.0f} ns/cell), "
         f"peak memory {first_peak:.2f} x the output arrays"
     )
+    threads = default_threads()
     print(
-        "\nevery catalogue domain, warm (ratio: ns per cell over SP's at the same level; floor: "
-        "allocating and writing as many bytes as the output, np.ones)"
+        f"\nevery catalogue domain at the level giving about 3 M cells, warm, {threads} worker "
+        "thread(s) (the default) and 1; ratio: ns per cell over SP's at level 8 in the same run; "
+        "floor: allocating and writing as many bytes as the output, np.ones"
     )
     print(
-        f"{'domain':>11} {'blocks':>6} {'level':>5} {'cells':>11} {'ms':>8} {'ns/cell':>8} "
-        f"{'ratio':>6} {'floor':>6}"
+        f"{'domain':>18} {'blocks':>6} {'level':>5} {'cells':>11} {'ms':>8} {'ns/cell':>8} "
+        f"{'1 thread':>8} {'ratio':>6} {'floor':>6}"
     )
-    for level in (7, 8):
-        sp_ns = best_of(lambda level=level: blockmesh.refine(sp, level), args.repeat) / 6**level
-        for name in catalogue_names():
-            domain = blockmesh.load_domain(name)
-            cells = domain.n_blocks * 6**level
-            if cells > args.max_cells:
-                continue
-            seconds = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv), args.repeat)
-            nbytes = blockmesh.refine(domain, level).nbytes()
-            floor = best_of(lambda n=nbytes: np.ones(n // 8), args.repeat)
-            print(
-                f"{name:>11} {domain.n_blocks:>6} {level:>5} {cells:>11,} {seconds * 1e3:>8.1f} "
-                f"{seconds / cells * 1e9:>8.1f} {seconds / cells / sp_ns:>6.2f} "
-                f"{floor / cells * 1e9:>6.1f}"
-            )
+    sp_ns = best_of(lambda: blockmesh.refine(sp, 8), args.repeat) / 6**8
+    worst = ("", 0.0)
+    for name in catalogue_names():
+        domain = blockmesh.load_domain(name)
+        level = max(1, round(math.log(3e6 / domain.n_blocks, 6)))
+        cells = domain.n_blocks * 6**level
+        seconds = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv), args.repeat)
+        single = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv, threads=1), args.repeat)
+        nbytes = blockmesh.refine(domain, level).nbytes()
+        floor = best_of(lambda n=nbytes: np.ones(n // 8), args.repeat)
+        ns = seconds / cells * 1e9
+        worst = max(worst, (name, ns), key=lambda pair: pair[1])
+        print(
+            f"{name:>18} {domain.n_blocks:>6} {level:>5} {cells:>11,} {seconds * 1e3:>8.1f} "
+            f"{ns:>8.1f} {single / cells * 1e9:>8.1f} {ns / (sp_ns * 1e9):>6.2f} "
+            f"{floor / cells * 1e9:>6.1f}"
+        )
+    print(f"slowest domain: {worst[0]} at {worst[1]:.1f} ns per cell (SP: {sp_ns * 1e9:.1f})")
     joined = blockmesh.load_domain("joined-8")
     print(
         f"template cache: {cached_template_bytes() / 1e6:.0f} MB kept "

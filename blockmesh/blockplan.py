@@ -41,13 +41,19 @@ from functools import lru_cache
 
 import numpy as np
 
-from .template import PentagonTemplate, node_count, pentagon_template
+from .template import LevelStep, PentagonTemplate, node_count, pentagon_template
 
 __all__ = [
     "PLACE_CHUNK",
+    "NodePattern",
+    "PlaceScratch",
     "RefinementPlan",
     "block_node_ids",
+    "chunk_coordinates",
+    "edge_id_table",
     "edge_node_ids",
+    "group_node_ids",
+    "node_pattern",
     "place_block",
     "place_level",
     "plan_refinement",
@@ -174,13 +180,149 @@ def _edge_ranks(steps: int, edge: int, taken: tuple[bool, ...]) -> tuple[np.ndar
     return level, rank
 
 
+def edge_id_table(plan: RefinementPlan) -> np.ndarray:
+    """Global ids along every block edge, (B, 5, 2^L + 1): row ``[b, e]`` from corner e to e+1.
+
+    The same ids as :func:`edge_node_ids`, for all edges at once: the edges a block numbers
+    itself are grouped by edge and by which edges the block leaves to lower blocks (at most 160
+    kinds), each kind filled for all its blocks in one operation; an edge a lower block numbered
+    is that block's row read backwards. O(B 2^L).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> plan = plan_refinement(np.arange(5)[None], np.full((1, 5), -1), 5, 1)
+    >>> edge_id_table(plan)[0].tolist()
+    [[0, 5, 1], [1, 6, 2], [2, 7, 3], [3, 8, 4], [4, 9, 0]]
+    """
+    steps = plan.steps
+    table = np.empty((plan.n_blocks, 5, 2**steps + 1), dtype=np.int64)
+    table[:, :, 0] = plan.cells
+    table[:, :, -1] = np.roll(plan.cells, -1, axis=1)
+    kind = plan.taken @ (1 << np.arange(5))
+    for edge in range(5):
+        own = ~plan.taken[:, edge]
+        for pattern in np.unique(kind[own]).tolist():
+            blocks = np.flatnonzero(own & (kind == pattern))
+            taken = tuple(bool(pattern >> k & 1) for k in range(5))
+            level, rank = _edge_ranks(steps, edge, taken)
+            table[blocks, edge, 1:-1] = plan.offsets[level][:, blocks].T + rank
+    high, high_edge = np.nonzero(plan.taken)
+    low, low_edge = np.divmod(plan.neighbour[high, high_edge], 5)
+    table[high, high_edge] = table[low, low_edge, ::-1]
+    return table
+
+
+@dataclass(frozen=True)
+class NodePattern:
+    """Which template nodes a block numbers itself, given the edges lower blocks number.
+
+    Attributes
+    ----------
+    taken : tuple of bool
+        The block's edges whose inner nodes a lower block numbers.
+    own : ndarray (n_L,) bool
+        The nodes the block numbers (not a corner, not inside a taken edge).
+    rank : ndarray (n_L,) int64
+        Of each own node, its rank among the block's own nodes of the same level (0-based);
+        meaningless elsewhere.
+    keep : tuple of ndarray
+        ``keep[l - 1]``: the positions, within level ``l``'s range of local ids, of the own nodes.
+    last_source : ndarray
+        The slots (:attr:`LevelStep.source`) of the own nodes of the finest level, increasing.
+    """
+
+    taken: tuple[bool, ...]
+    own: np.ndarray
+    rank: np.ndarray
+    keep: tuple[np.ndarray, ...]
+    last_source: np.ndarray
+
+
+#: Node patterns are cached up to this level (about 1.2 MB each at level 6; at most 32 kinds).
+_CACHED_PATTERN_LEVEL = 6
+
+
+def node_pattern(steps: int, taken: tuple[bool, ...]) -> NodePattern:
+    """The :class:`NodePattern` of a block refined ``steps`` times, ``taken`` edges left to others.
+
+    Examples
+    --------
+    >>> p = node_pattern(1, (True, False, False, False, False))
+    >>> p.own.nonzero()[0].tolist(), p.rank[6:15].tolist()
+    ([6, 7, 8, 9, 10, 11, 12, 13, 14], [0, 1, 2, 3, 4, 5, 6, 7, 8])
+    """
+    taken = tuple(bool(t) for t in taken)
+    if steps <= _CACHED_PATTERN_LEVEL:
+        return _cached_node_pattern(steps, taken)
+    return _node_pattern(steps, taken)
+
+
+def _node_pattern(steps: int, taken: tuple[bool, ...]) -> NodePattern:
+    template = pentagon_template(steps)
+    own = np.ones(template.n_nodes, dtype=bool)
+    own[:5] = False
+    for edge in np.flatnonzero(taken).tolist():
+        own[template.edge_nodes[edge][1:-1]] = False
+    counted = np.cumsum(own)
+    rank = counted - 1
+    bounds = _level_bounds(steps)
+    keep = []
+    for level in range(1, steps + 1):
+        lo, hi = int(bounds[level - 1]), int(bounds[level])
+        rank[lo:hi] -= counted[lo - 1]
+        keep.append(np.flatnonzero(own[lo:hi]))
+    last_source = template.steps[-1].source[keep[-1]] if steps else np.empty(0, dtype=np.int64)
+    for array in (own, rank, *keep, last_source):
+        array.setflags(write=False)
+    return NodePattern(taken, own, rank, tuple(keep), last_source)
+
+
+_cached_node_pattern = lru_cache(maxsize=64)(_node_pattern)
+
+
+def group_node_ids(
+    plan: RefinementPlan,
+    first: int,
+    stop: int,
+    edge_ids: np.ndarray,
+    out: np.ndarray | None = None,
+) -> np.ndarray:
+    """Global ids of the template nodes of blocks ``first .. stop-1``, (G, n_L) int64.
+
+    ``edge_ids`` (G, 5, 2^L + 1) are the ids along the blocks' edges (rows of
+    :func:`edge_id_table`); ``out`` (G, n_L) int64 is filled and returned when given. Each of a
+    block's own nodes is its level's offset plus its rank (:func:`node_pattern`), the corners and
+    edges come from ``edge_ids``. O(G n_L).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> plan = plan_refinement(np.arange(5)[None], np.full((1, 5), -1), 5, 2)
+    >>> ids = group_node_ids(plan, 0, 1, edge_id_table(plan))
+    >>> bool(np.array_equal(ids[0], np.arange(65)))
+    True
+    """
+    template = pentagon_template(plan.steps)
+    ids = np.empty((stop - first, template.n_nodes), dtype=np.int64) if out is None else out
+    bounds = _level_bounds(plan.steps)
+    for k, block in enumerate(range(first, stop)):
+        rank = node_pattern(plan.steps, tuple(plan.taken[block].tolist())).rank
+        for level in range(1, plan.steps + 1):
+            lo, hi = int(bounds[level - 1]), int(bounds[level])
+            np.add(rank[lo:hi], plan.offsets[level, block], out=ids[k, lo:hi])
+    for edge in range(5):
+        ids[:, template.edge_nodes[edge]] = edge_ids[:, edge]
+    return ids
+
+
 def block_node_ids(
     plan: RefinementPlan, block: int, out: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Global ids of every template node of ``block`` (n_L,), and which ones the block numbers.
 
     ``out`` (n_L,) int64 is filled and returned when given (reused buffers save page faults).
-    O(n_L).
+    O(n_L), from the plan alone (see :func:`group_node_ids` for many blocks at once).
 
     Examples
     --------
@@ -190,72 +332,126 @@ def block_node_ids(
     >>> bool(np.array_equal(ids, np.arange(65))), int(own.sum())
     (True, 60)
     """
-    template = pentagon_template(plan.steps)
-    n_local = template.n_nodes
-    ids = np.empty(n_local, dtype=np.int64) if out is None else out
-    own = np.ones(n_local, dtype=bool)
-    own[:5] = False
-    taken = np.flatnonzero(plan.taken[block])
-    for edge in taken:
-        own[template.edge_nodes[edge][1:-1]] = False
-    np.cumsum(own, out=ids)
-    bounds = _level_bounds(plan.steps)
-    # Finest level first: each level reads the plain count just below its range.
-    for level in range(plan.steps, 0, -1):
-        lo, hi = int(bounds[level - 1]), int(bounds[level])
-        ids[lo:hi] += plan.offsets[level, block] - 1 - ids[lo - 1]
-    ids[:5] = plan.cells[block]
-    for edge in taken:
-        ids[template.edge_nodes[edge]] = edge_node_ids(plan, block, int(edge))
-    return ids, own
+    edge_ids = np.stack([edge_node_ids(plan, block, edge) for edge in range(5)])
+    ids = group_node_ids(plan, block, block + 1, edge_ids[None], None if out is None else out[None])
+    return ids[0], node_pattern(plan.steps, tuple(plan.taken[block].tolist())).own.copy()
 
 
-#: Parent cells processed at once by :func:`place_level`: small enough for the temporaries to
-#: stay in the CPU caches, large enough for numpy's per-call overhead not to matter.
+#: Parent cells (times blocks) processed at once by :func:`place_level`: small enough for the
+#: working arrays to stay in the CPU caches, large enough for numpy's per-call overhead not to
+#: matter.
 PLACE_CHUNK = 8192
 
 
-def place_level(local: np.ndarray, step, lo: int) -> None:
+class PlaceScratch:
+    """Working arrays of :func:`place_level` for up to ``rows`` blocks, reused from call to call.
+
+    A refinement calls :func:`place_level` thousands of times; allocating its temporaries anew
+    each time makes the C library map and unmap memory over and over (each first touch of a page
+    is a fault), which was measured to cost up to 5x the arithmetic. One scratch per thread
+    avoids that.
+
+    Examples
+    --------
+    >>> scratch = PlaceScratch(4)
+    >>> scratch.rows, scratch.chunk
+    (4, 2048)
+    """
+
+    def __init__(self, rows: int) -> None:
+        self.rows = rows
+        #: Parent cells per chunk.
+        self.chunk = max(1, PLACE_CHUNK // rows)
+        size = rows * self.chunk
+        self.corners = np.empty(5 * size, dtype=np.complex128)
+        self.centres = np.empty(2 * size, dtype=np.float64)
+        self.new = np.empty(10 * size, dtype=np.complex128)
+        self.slots = np.empty(10 * size, dtype=np.complex128)
+        self.picked = np.empty(10 * size, dtype=np.complex128)
+        self.index = np.empty(10 * self.chunk, dtype=np.int64)
+
+
+def place_level(
+    local: np.ndarray, step: LevelStep, lo: int, scratch: PlaceScratch | None = None
+) -> None:
     """Coordinates of the nodes new at one level, in every block's local numbering.
 
     ``local`` holds one complex128 per local node and block, shape (B, n_L) (a point ``(x, y)`` as
-    ``x + iy``, which makes gathers and scatters several times faster than on (N, 2) rows). The
-    arithmetic runs on the float64 view, corner-major, and is the paper's:
-    ``u = (v_i + v_i+1) / 2``, ``p = (v1 + v2 + v3 + v4 + v5) / 5``, ``w = (u + p) / 2``; so the
-    results are bit for bit those of the paper's program. Parent cells go in chunks whose new
-    nodes are a contiguous run of the output, so the temporaries stay in cache.
+    ``x + iy``, which makes gathers and scatters several times faster than on (N, 2) rows); the
+    nodes new at this level go to ``local[:, lo:]``. Parent cells go in chunks
+    (:func:`chunk_coordinates`) whose new nodes are a contiguous run of the output, in the working
+    arrays of ``scratch`` (made for the call when not given), so that they stay in cache and
+    nothing is allocated.
     """
     n_blocks = local.shape[0]
+    if scratch is None or scratch.rows < n_blocks:
+        scratch = PlaceScratch(n_blocks)
     n_parents = step.corners.shape[1]
-    for j0 in range(0, n_parents, PLACE_CHUNK):
-        j1 = min(j0 + PLACE_CHUNK, n_parents)
-        # (B, 5, 2c): corner-major, x/y interleaved. The template's indices are valid by
-        # construction; mode="clip" skips numpy's bounds check, which costs more than the gather.
-        corners = np.take(local, step.corners[:, j0:j1], axis=1, mode="clip").view(np.float64)
-        p = corners[:, 0] + corners[:, 1]
-        p += corners[:, 2]
-        p += corners[:, 3]
-        p += corners[:, 4]
-        p /= 5
-        new = np.empty((n_blocks, 2, *corners.shape[1:]), dtype=np.float64)  # [u, w]
-        u, w = new[:, 0], new[:, 1]
-        np.add(corners[:, :4], corners[:, 1:], out=u[:, :4])
-        np.add(corners[:, 4], corners[:, 0], out=u[:, 4])
-        u *= 0.5  # exact, as / 2
-        np.add(u, p[:, None, :], out=w)
-        w *= 0.5
-        # Slot 10 j + k of the chunk: u_k (k < 5) or w_(k-5) of parent j0 + j.
-        slots = np.ascontiguousarray(
-            new.view(np.complex128).reshape(n_blocks, 10, -1).swapaxes(1, 2)
-        )
+    for j0 in range(0, n_parents, scratch.chunk):
+        j1 = min(j0 + scratch.chunk, n_parents)
+        slots = chunk_coordinates(local, step, j0, j1, scratch)
         first, last = np.searchsorted(step.source, (10 * j0, 10 * j1))
-        np.take(
-            slots.reshape(n_blocks, -1),
-            step.source[first:last] - 10 * j0,
-            axis=1,
-            out=local[:, lo + first : lo + last],
-            mode="clip",
-        )
+        index = np.subtract(step.source[first:last], 10 * j0, out=scratch.index[: last - first])
+        target = local[:, lo + first : lo + last]
+        if n_blocks > 1:  # rows of local are not contiguous: gather, then copy
+            picked = scratch.picked[: n_blocks * (last - first)].reshape(n_blocks, -1)
+            np.take(slots, index, axis=1, out=picked, mode="clip")
+            np.copyto(target, picked)
+        else:
+            np.take(slots, index, axis=1, out=target, mode="clip")
+
+
+def chunk_coordinates(
+    local: np.ndarray,
+    step: LevelStep,
+    j0: int,
+    j1: int,
+    scratch: PlaceScratch,
+    *,
+    slot_major: bool = False,
+) -> np.ndarray:
+    """The midpoints and inner points of parent cells ``j0 .. j1-1`` of every block.
+
+    Returns a view into ``scratch``, (B, 10 (j1 - j0)) complex128: slot ``10 j + k`` holds
+    ``u_k`` (k < 5) or ``w_(k-5)`` of parent ``j0 + j`` (``step.source`` says which slot each
+    new node is). With ``slot_major``, the (B, 10 C) layout the arithmetic produces is returned
+    as it is (no transposition): slot ``10 j + k`` is at ``k C + j`` with ``C`` =
+    ``scratch.chunk``, whatever the chunk's length.
+
+    The arithmetic runs on the float64 view, corner-major, and is the paper's:
+    ``u = (v_i + v_i+1) / 2``, ``p = (v1 + v2 + v3 + v4 + v5) / 5``, ``w = (u + p) / 2``; so the
+    results are bit for bit those of the paper's program.
+    """
+    n_blocks = local.shape[0]
+    size = n_blocks * (j1 - j0)
+    stride = scratch.chunk if slot_major else j1 - j0
+    # (B, 5, 2c): corner-major, x/y interleaved. The template's indices are valid by
+    # construction; mode="clip" skips numpy's bounds check, which costs more than the gather.
+    corners = np.take(
+        local,
+        step.corners[:, j0:j1],
+        axis=1,
+        mode="clip",
+        out=scratch.corners[: 5 * size].reshape(n_blocks, 5, j1 - j0),
+    ).view(np.float64)
+    p = np.add(corners[:, 0], corners[:, 1], out=scratch.centres[: 2 * size].reshape(n_blocks, -1))
+    p += corners[:, 2]
+    p += corners[:, 3]
+    p += corners[:, 4]
+    p /= 5
+    whole = scratch.new[: 10 * n_blocks * stride].view(np.float64).reshape(n_blocks, 2, 5, -1)
+    new = whole[..., : 2 * (j1 - j0)]
+    u, w = new[:, 0], new[:, 1]  # [u, w]
+    np.add(corners[:, :4], corners[:, 1:], out=u[:, :4])
+    np.add(corners[:, 4], corners[:, 0], out=u[:, 4])
+    u *= 0.5  # exact, as / 2
+    np.add(u, p[:, None, :], out=w)
+    w *= 0.5
+    if slot_major:
+        return whole.view(np.complex128).reshape(n_blocks, -1)
+    slots = scratch.slots[: 10 * size].reshape(n_blocks, j1 - j0, 10)
+    np.copyto(slots, whole.view(np.complex128).reshape(n_blocks, 10, -1).swapaxes(1, 2))
+    return slots.reshape(n_blocks, -1)
 
 
 def place_block(
@@ -272,8 +468,9 @@ def place_block(
     """
     out[:5] = corners
     view = out[None, :]
+    scratch = PlaceScratch(1)
     for level in range(1, template.level + 1):
-        place_level(view, template.steps[level - 1], node_count(level - 1))
+        place_level(view, template.steps[level - 1], node_count(level - 1), scratch)
         if after_level is not None:
             after_level(out, level)
     return out

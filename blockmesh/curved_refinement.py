@@ -337,11 +337,14 @@ class CurvedBlocks:
         local[u_ids] = u.view(np.complex128)[..., 0]
         local[w_ids] = w.view(np.complex128)[..., 0]
 
-    def record(self, block: int, ids: np.ndarray) -> None:
-        """Note the global ids ``ids`` (n_level,) of ``block``'s nodes along its curved edges."""
-        along = pentagon_template(self.level).edge_nodes
+    def record(self, block: int, edge_ids: np.ndarray) -> None:
+        """Note the global ids of ``block``'s nodes along its edges.
+
+        ``edge_ids`` (5, 2^L + 1) are the block's rows of
+        :func:`blockmesh.blockplan.edge_id_table`.
+        """
         for edge in np.flatnonzero(self.row[block] >= 0).tolist():
-            nodes = ids[along[edge]]
+            nodes = edge_ids[edge]
             self.along_ids[self.row[block, edge]] = (
                 nodes if self.forward[block, edge] else nodes[::-1]
             )

@@ -167,26 +167,33 @@ def _status_field(field: str) -> int:
     return 0
 
 
-def refinement_working_bytes(n_blocks: int, steps: int, *, smooth: int = 0) -> int:
-    """Bytes a refinement holds besides its output: working arrays and the level's template.
+def refinement_working_bytes(
+    n_blocks: int, steps: int, *, smooth: int = 0, threads: int | None = None
+) -> int:
+    """Bytes a refinement holds besides its output: working arrays and the templates it builds.
 
-    One block's coordinates (16 bytes per template node), ids (8) and ownership mask (1) when the
-    blocks are refined one by one; every block's at once for small levels and for smoothing; none
-    for a single block, whose coordinates are computed in place.
-    The template (about :data:`TEMPLATE_BYTES_PER_CELL` bytes per cell of the level) is counted
-    unless the template cache already holds it.
+    Without smoothing, the blocks are refined :data:`~blockmesh.grouped_refinement.BLOCK_LEVEL`
+    levels at a time (the base first refined to the difference, a small mesh of its own): each
+    worker thread holds one group's working arrays
+    (:func:`~blockmesh.grouped_refinement.workspace_bytes`), and the ids along every block edge
+    are kept. With smoothing, every block's coordinates, ids and masks at once, and each level's
+    sparse adjacency. A template (about :data:`TEMPLATE_BYTES_PER_CELL` bytes per cell of its
+    level) is counted unless the template cache already holds it.
     """
-    nodes = node_count(steps)
-    if n_blocks == 1 and not smooth:
-        working = 0  # one block: its working coordinates are the output
-    elif smooth or 6**steps < 6**5:
-        working = 41 * nodes * n_blocks  # all blocks at once: coordinates, ids, masks
-    else:
-        working = 25 * nodes  # one block at a time: coordinates, ids, ownership mask
+    from .grouped_refinement import BLOCK_LEVEL, default_threads, workspace_bytes
+
     if smooth:
-        working += 200 * n_blocks * 6**steps  # the sparse adjacency of each level's sweeps
-    if not template_is_alive(steps):
-        working += TEMPLATE_BYTES_PER_CELL * 6**steps
+        working = 41 * node_count(steps) * n_blocks + 200 * n_blocks * 6**steps
+        template_level = steps
+    else:
+        template_level = min(steps, BLOCK_LEVEL)
+        blocks = n_blocks * 6 ** (steps - template_level)
+        threads = default_threads() if threads is None else threads
+        working = threads * workspace_bytes(blocks, template_level)
+        working += 16 * blocks * (2**template_level + 1) * 5  # ids along every block edge
+        working += 100 * blocks  # the base refined to the blocks, when it is
+    if not template_is_alive(template_level):
+        working += TEMPLATE_BYTES_PER_CELL * 6**template_level
     return working
 
 
@@ -229,8 +236,11 @@ def predict_mesh_command(
         ("refinement", base + mesh + refinement_working_bytes(n_blocks, steps, smooth=smooth))
     ]
     # A template the refinement builds stays cached for the later stages when it fits the cache.
-    template = TEMPLATE_BYTES_PER_CELL * 6**steps
-    if not template_is_alive(steps) and template <= TEMPLATE_CACHE_BYTES:
+    from .grouped_refinement import BLOCK_LEVEL
+
+    template_level = steps if smooth else min(steps, BLOCK_LEVEL)
+    template = TEMPLATE_BYTES_PER_CELL * 6**template_level
+    if not template_is_alive(template_level) and template <= TEMPLATE_CACHE_BYTES:
         mesh += template
     stages.append(("report", base + mesh + STAGE_COSTS["report",].bytes(cells)))
     if numbering == "rcm":

@@ -154,11 +154,13 @@ class Mesh:
         self._check_cells()
 
     @classmethod
-    def _trusted(cls, **values: Any) -> Mesh:
+    def _trusted(cls, *, check_ranges: bool = True, **values: Any) -> Mesh:
         """A Mesh from arrays consistent by construction (refinement, a validated Domain).
 
-        Only the cheap O(M) checks of :meth:`_check_arrays` run (shapes, lengths, index ranges);
-        orientation and boundary matching, which the constructor also checks, are skipped.
+        Only the cheap O(M) checks of :meth:`_check_arrays` run (shapes, lengths and, unless
+        ``check_ranges`` is false, index ranges); orientation and boundary matching, which the
+        constructor also checks, are skipped. The refinement, whose indices come from the plan and
+        are tested against the paper's numbering, skips the ranges (a pass over every array).
         """
         mesh = object.__new__(cls)
         for f in fields(cls):
@@ -170,7 +172,7 @@ class Mesh:
                 value = f.default
             object.__setattr__(mesh, f.name, value)
         mesh._freeze()
-        mesh._check_arrays()
+        mesh._check_arrays(ranges=check_ranges)
         return mesh
 
     def _freeze(self) -> None:
@@ -197,8 +199,8 @@ class Mesh:
                 f"Mesh curves must be a blockmesh.curves.CurvedEdges or None, got {self.curves!r}"
             )
 
-    def _check_arrays(self) -> None:
-        """Shapes, lengths and index ranges: O(M), always checked."""
+    def _check_arrays(self, *, ranges: bool = True) -> None:
+        """Shapes, lengths and (O(M)) index ranges."""
         n, m, eb = self.n_points, self.n_cells, int(self.boundary_edges.shape[0])
         for name in ("block_id", "parent", "region"):
             length = getattr(self, name).shape[0]
@@ -209,6 +211,8 @@ class Mesh:
                 f"Mesh boundary_patch has {self.boundary_patch.shape[0]} entries for {eb} "
                 "boundary edges"
             )
+        if not ranges:
+            return
         points_note = f"there are {n} points"
         _check_range(self.cells, 0, n, "cell", points_note)
         _check_range(self.boundary_edges, 0, n, "boundary edge", points_note)

@@ -7,9 +7,12 @@ numbered yet, then its five inner points (the paper's ``nodaladdressesforpentago
 
 How it is fast: the numbering of one refined pentagon does not depend on its shape, so it is built
 once per level (:mod:`blockmesh.template`) and every block maps its local node ids to global ids
-with whole-array operations. A node on an edge shared by two blocks is numbered by the lower block,
-exactly as the paper's walk does, and the higher block reads the same ids back along the edge.
-Coordinates are then computed level by level from the parent cells with the paper's arithmetic.
+with whole-array operations (:mod:`blockmesh.blockplan`). A node on an edge shared by two blocks
+is numbered by the lower block, exactly as the paper's walk does, and the higher block reads the
+same ids back along the edge. Coordinates are computed level by level from the parent cells with
+the paper's arithmetic. Blocks, in groups, are refined independently on worker threads straight
+into the output (:mod:`blockmesh.grouped_refinement`); a deep refinement first refines the base and
+uses its cells as blocks, which the nested numbering makes the same mesh bit for bit.
 
 Examples
 --------
@@ -25,15 +28,16 @@ import math
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .blockplan import block_node_ids, place_block, plan_refinement
+from . import grouped_refinement as grouped
+from .blockplan import edge_id_table, group_node_ids, plan_refinement
 from .blockplan import place_level as _place_level
 from .checks import choice, whole_number
 from .errors import ArgumentTypeError, ResourceError
+from .grouped_refinement import RefinedBlocks, refine_blocks
 from .mesh import Mesh
 from .template import node_count, pentagon_template
 from .topology import boundary_slots, cell_neighbours
@@ -159,38 +163,6 @@ def _block_mesh_of(target: Domain | Mesh) -> Mesh:
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
-def _global_ids(cells: np.ndarray, neighbour: np.ndarray, n_points: int, steps: int):
-    """Global id of every local template node of every base cell, (B, n_L), and the node count.
-
-    Returns ``None`` for the ids when they are the template's own (one cell with corners 0..4).
-    """
-    template = pentagon_template(steps)
-    n_cells = cells.shape[0]
-    if n_cells == 1 and n_points == 5 and np.array_equal(cells[0], np.arange(5)):
-        return None, template.n_nodes
-    ids = np.empty((n_cells, template.n_nodes), dtype=np.int64)
-    ids[:, :5] = cells
-    row = np.arange(n_cells)[:, None]
-    # Edges whose nodes a lower-numbered cell numbers; column 5 stands for "not on an edge".
-    taken = np.zeros((n_cells, 6), dtype=bool)
-    taken[:, :5] = (neighbour >= 0) & (neighbour < 5 * row)
-    total = n_points
-    for step in range(1, steps + 1):
-        lo, hi = node_count(step - 1), node_count(step)
-        on_edge = template.edge_of_node[lo:hi].astype(np.int64)
-        keep = ~taken[:, np.where(on_edge < 0, 5, on_edge)]
-        rank = np.cumsum(keep, axis=1)
-        counts = rank[:, -1]
-        ids[:, lo:hi] = (np.cumsum(counts) - counts + total - 1)[:, None] + rank
-        total += int(counts.sum())
-    # Nodes on shared edges: read the lower cell's ids back along the edge (opposite direction).
-    high, high_edge = np.nonzero(taken[:, :5])
-    low, low_edge = np.divmod(neighbour[high, high_edge], 5)
-    along = template.edge_nodes
-    ids[high[:, None], along[high_edge]] = ids[low[:, None], along[low_edge][:, ::-1]]
-    return ids, total
-
-
 def refine(
     domain_or_mesh: Domain | Mesh,
     level: int,
@@ -199,6 +171,7 @@ def refine(
     smooth: int = 0,
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
+    threads: int | None = None,
 ) -> Mesh:
     """Refine a domain (or a mesh) ``level`` times: every cell becomes 6**level pentagons.
 
@@ -217,7 +190,10 @@ def refine(
     max_memory : int, optional
         Refuse to build a mesh needing more bytes than this (default: the memory available now).
     progress : callable, optional
-        Called as ``progress(done, total)`` after each level.
+        Called as ``progress(done, total)`` as the work proceeds (in the calling thread).
+    threads : int, optional
+        Worker threads sharing the blocks (default: the cores available, at most 8, or
+        ``BLOCKMESH_THREADS``). The result is the same bit for bit for any number.
 
     Returns
     -------
@@ -240,13 +216,15 @@ def refine(
     smooth = whole_number(smooth, "smooth")
     if max_memory is not None:
         max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    if threads is not None:
+        threads = whole_number(threads, "threads", minimum=1)
     base = _block_mesh_of(domain_or_mesh)
     neighbour = cell_neighbours(base.cells, base.n_points)
     n_shared = int(np.count_nonzero(neighbour >= 0)) // 2
     _check_memory(base, n_shared, level, max_memory)
     _check_precision(base, level)
     try:
-        mesh = _build(base, neighbour, level, smooth, progress)
+        mesh = _build(base, neighbour, level, smooth, progress, threads)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -258,180 +236,100 @@ def refine(
     return mesh
 
 
-#: Blocks are refined one at a time (reusing one block's working arrays, no global id table)
-#: from this many cells per block on; below it, all blocks at once with whole-array operations.
-_CELLS_PER_BLOCK_ONE_BY_ONE = 6**5
-
-
-def _build(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
-    """The refined mesh; cells with curved edges follow the curve-aware rule in the same pass.
-
-    With smoothing, the straight refinement (smoothed across blocks) runs first and the curved
-    cells are then recomputed by :func:`~blockmesh.curved_refinement.place_on_curves`.
-    """
-    from .curved_refinement import CurvedBlocks, place_on_curves
-
-    has_curves = base.curves is not None and len(base.curves) > 0
-    curved = CurvedBlocks(base, level) if has_curves and not smooth else None
-    single = (
-        base.n_cells == 1 and base.n_points == 5 and np.array_equal(base.cells[0], np.arange(5))
-    )
-    if smooth or single or 6**level < _CELLS_PER_BLOCK_ONE_BY_ONE:
-        mesh = _build_all_blocks(base, neighbour, level, smooth, progress, curved)
-    else:
-        mesh = _build_block_by_block(base, neighbour, level, progress, curved)
-    if has_curves and curved is None:
-        return place_on_curves(base, mesh, level, smooth)
-    return mesh
-
-
-def _build_block_by_block(
-    base: Mesh,
-    neighbour: np.ndarray,
-    level: int,
-    progress,
-    curved: CurvedBlocks | None = None,
-) -> Mesh:
-    """Each block in turn: its node ids from the plan, its coordinates, its cells and boundary.
-
-    The blocks with a curved edge (``curved``) get the curve-aware rule level by level.
-    """
-    plan = plan_refinement(base.cells, neighbour, base.n_points, level)
-    template = pentagon_template(level)
-    n_local, per_block = template.n_nodes, 6**level
-    points = np.empty(plan.n_nodes, dtype=np.complex128)
-    points[: base.n_points] = base.points.view(np.complex128)[:, 0]
-    cells = np.empty((base.n_cells * per_block, 5), dtype=np.int64)
-    local = np.empty(n_local, dtype=np.complex128)
-    ids = np.empty(n_local, dtype=np.int64)
-    corners = base.points.view(np.complex128)[:, 0]
-    bounds = [node_count(step) for step in range(level + 1)]
-    along = template.edge_nodes
-    cell, edge = np.divmod(
-        boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
-    )
-    boundary_nodes = np.empty((cell.size, along.shape[1]), dtype=np.int64)
-    for block in range(base.n_cells):
-        on_curve = curved if curved is not None and curved.is_curved[block] else None
-        fix = None if on_curve is None else partial(on_curve.fix_level, block=block)
-        place_block(template, corners[base.cells[block]], local, fix)
-        _, numbered = block_node_ids(plan, block, out=ids)
-        if on_curve is not None:
-            on_curve.record(block, ids)
-        shares = plan.taken[block].any()
-        for step in range(1, level + 1):
-            lo, hi = bounds[step - 1], bounds[step]
-            start = int(plan.offsets[step, block])
-            target = points[start : start + int(plan.counts[step, block])]
-            # The nodes this block numbers, in its order (a lower block has the others).
-            if shares:
-                np.compress(numbered[lo:hi], local[lo:hi], out=target)
-            else:
-                target[:] = local[lo:hi]
-        np.take(
-            ids,
-            template.cells,
-            axis=0,
-            out=cells[block * per_block : (block + 1) * per_block],
-            mode="clip",
-        )
-        here = np.flatnonzero(cell == block)
-        boundary_nodes[here] = ids[along[edge[here]]]
-        if progress is not None:
-            progress(block + 1, base.n_cells)
-    points_xy = points.view(np.float64).reshape(-1, 2)
-    return _assemble(base, boundary_nodes, points_xy, cells, level, curved)
-
-
-def _build_all_blocks(
+def _build(
     base: Mesh,
     neighbour: np.ndarray,
     level: int,
     smooth: int,
     progress,
-    curved: CurvedBlocks | None = None,
+    threads: int | None = None,
 ) -> Mesh:
-    """All blocks at once, level by level, with whole-array operations.
+    """The refined mesh; cells with curved edges follow the curve-aware rule in the same pass.
 
-    The blocks with a curved edge (``curved``, only without smoothing) get the curve-aware rule.
+    With smoothing, every block is refined at once level by level (the sweeps cross blocks) and
+    the curved cells are then recomputed by :func:`~blockmesh.curved_refinement.place_on_curves`.
     """
-    ids, n_nodes = _global_ids(base.cells, neighbour, base.n_points, level)
-    # (curve-aware rule, block) for every block with a curved edge.
-    curved_blocks = (
-        [] if curved is None else [(curved, b) for b in np.flatnonzero(curved.is_curved).tolist()]
+    from .curved_refinement import CurvedBlocks, place_on_curves
+
+    has_curves = base.curves is not None and len(base.curves) > 0
+    if smooth:
+        mesh = _build_smoothed(base, neighbour, level, smooth, progress)
+        return place_on_curves(base, mesh, level, smooth) if has_curves else mesh
+    if level > grouped.BLOCK_LEVEL:
+        # Refine the base to the difference first and its cells as blocks (see BLOCK_LEVEL).
+        first = level - grouped.BLOCK_LEVEL
+        base = _build(base, neighbour, first, 0, None, threads)
+        neighbour = cell_neighbours(base.cells, base.n_points)
+        level -= first
+    curved = CurvedBlocks(base, level) if has_curves else None
+    refined = refine_blocks(
+        base, neighbour, level, curved=curved, threads=threads, progress=progress
     )
+    return _assemble(base, refined, level, curved)
+
+
+def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
+    """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
+    from .smooth import block_edge_nodes, smooth_interior
+
+    plan = plan_refinement(base.cells, neighbour, base.n_points, level)
+    edge_ids = edge_id_table(plan)
+    ids = group_node_ids(plan, 0, base.n_cells, edge_ids)
     template = pentagon_template(level)
-    identity = ids is None
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
     local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
-    points = local[0] if identity else np.empty(n_nodes, dtype=np.complex128)
-    if smooth:
-        from .smooth import block_edge_nodes, smooth_interior
-
-        if identity:
-            ids = np.arange(n_nodes)[None, :]
-        fixed = block_edge_nodes(ids, level)
+    points = np.empty(plan.n_nodes, dtype=np.complex128)
+    fixed = block_edge_nodes(ids, level)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
         _place_level(local, template.steps[step - 1], lo)
-        for rule, block in curved_blocks:
-            rule.fix_level(local[block], step, block)
-        if smooth:
-            level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
-            points[ids[:, :hi]] = local[:, :hi]
-            n_level = int(ids[:, :hi].max()) + 1
-            xy = points.view(np.float64).reshape(-1, 2)
-            smooth_interior(xy, level_cells, n_level, fixed, smooth)
-            local[:, :hi] = points[ids[:, :hi]]
+        level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
+        points[ids[:, :hi]] = local[:, :hi]
+        n_level = int(ids[:, :hi].max()) + 1
+        xy = points.view(np.float64).reshape(-1, 2)
+        smooth_interior(xy, level_cells, n_level, fixed, smooth)
+        local[:, :hi] = points[ids[:, :hi]]
         if progress is not None:
             progress(step, level)
-    for rule, block in curved_blocks:
-        rule.record(block, np.arange(template.n_nodes) if ids is None else ids[block])
-    if not identity:
-        np.put(points, ids, local, mode="clip")  # shared nodes get the same value twice
+    np.put(points, ids, local, mode="clip")  # shared nodes get the same value twice
     del local
-    points = points.view(np.float64).reshape(-1, 2)
-    if identity:
-        cells = template.cells.copy()
-    else:
-        cells = np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5)
-    # Each boundary edge of the base splits into 2**level edges, in the base's order.
-    along = template.edge_nodes
     cell, edge = np.divmod(
         boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
     )
-    boundary_nodes = along[edge] if ids is None else ids[cell[:, None], along[edge]]
-    return _assemble(base, boundary_nodes, points, cells, level, curved)
+    per_block = 6**level
+    refined = RefinedBlocks(
+        points=points.view(np.float64).reshape(-1, 2),
+        cells=np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5),
+        block_id=_repeat(base.block_id, per_block),
+        parent=_parents(base.n_cells * per_block, level),
+        region=_repeat(base.region, per_block),
+        boundary_nodes=edge_ids[cell, edge],
+    )
+    return _assemble(base, refined, level)
 
 
 def _assemble(
-    base: Mesh, boundary_nodes, points, cells, steps: int, curved: CurvedBlocks | None = None
+    base: Mesh, refined: RefinedBlocks, steps: int, curved: CurvedBlocks | None = None
 ) -> Mesh:
-    """The Mesh of the refined base; ``boundary_nodes`` (Eb, 2^steps + 1) along each base edge.
+    """The Mesh of ``base`` refined ``steps`` times from the arrays ``refined``.
 
     ``curved``, when given, has recorded every curved block: the mesh gets its refined curves.
     """
-    boundary_edges = np.stack([boundary_nodes[:, :-1], boundary_nodes[:, 1:]], axis=-1).reshape(
-        -1, 2
-    )
-    repeat = 6**steps
-    n_cells = cells.shape[0]
-    if steps == 0:
-        parent = np.full(n_cells, -1, dtype=np.int64)
-    else:
-        parent = np.repeat(np.arange(n_cells // 6, dtype=np.int64), 6)
+    along = refined.boundary_nodes
+    boundary_edges = np.stack([along[:, :-1], along[:, 1:]], axis=-1).reshape(-1, 2)
     arrays = {
-        "points": points,
-        "cells": cells,
-        "block_id": _repeat(base.block_id, repeat),
-        "parent": parent,
+        "points": refined.points,
+        "cells": refined.cells,
+        "block_id": refined.block_id,
+        "parent": refined.parent,
         "boundary_edges": boundary_edges,
         "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
-        "region": _repeat(base.region, repeat),
+        "region": refined.region,
     }
     for array in arrays.values():
         array.setflags(write=False)
     return Mesh._trusted(
+        check_ranges=False,
         **arrays,
         patch_names=base.patch_names,
         region_names=base.region_names,
@@ -439,6 +337,13 @@ def _assemble(
         name=base.name,
         curves=None if curved is None else curved.refined(),
     )
+
+
+def _parents(n_cells: int, steps: int) -> np.ndarray:
+    """Parent of each refined cell: cell c comes from cell c // 6 (none without refinement)."""
+    if steps == 0:
+        return np.full(n_cells, -1, dtype=np.int64)
+    return np.repeat(np.arange(n_cells // 6, dtype=np.int64), 6)
 
 
 def _repeat(values: np.ndarray, count: int) -> np.ndarray:

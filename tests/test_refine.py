@@ -216,12 +216,14 @@ def test_from_cells_and_refine_of_a_plain_mesh():
     assert mesh.n_cells == 216 and mesh.area == pytest.approx(5.0, rel=1e-14)
 
 
-def test_running_out_of_memory_is_a_resource_error(catalogue, monkeypatch):
-    import blockmesh.refinement as refinement
+@pytest.mark.parametrize("threads", [1, 2])
+def test_running_out_of_memory_is_a_resource_error(catalogue, monkeypatch, threads):
+    # In a worker thread too: the failure reaches the caller, the other threads stop.
+    import blockmesh.grouped_refinement as grouped
 
     def exhausted(*args, **kwargs):
         raise MemoryError
 
-    monkeypatch.setattr(refinement, "_place_level", exhausted)
-    with pytest.raises(ResourceError, match="ran out of memory refining sp to level 3"):
-        refine(catalogue["sp"], 3)
+    monkeypatch.setattr(grouped, "place_level", exhausted)
+    with pytest.raises(ResourceError, match="ran out of memory refining joined-8 to level 3"):
+        refine(catalogue["joined-8"], 3, threads=threads)

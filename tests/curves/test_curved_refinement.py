@@ -10,6 +10,7 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 import blockmesh
+import blockmesh.grouped_refinement
 from blockmesh import Domain
 from blockmesh.curves import Arc, Spline
 from blockmesh.errors import DomainError
@@ -75,21 +76,22 @@ def test_refining_in_steps_equals_refining_at_once(name):
 def _two_pass(base, level):
     """The reference: the straight refinement, then the curved cells recomputed by
     place_on_curves (what refine did before the curve-aware rule ran in the same pass)."""
-    from blockmesh import refinement
-    from blockmesh.curved_refinement import place_on_curves
-    from blockmesh.topology import cell_neighbours
+    import dataclasses
 
-    straight = refinement._build_all_blocks(
-        base, cell_neighbours(base.cells, base.n_points), level, 0, None
-    )
+    from blockmesh.curved_refinement import place_on_curves
+
+    straight = blockmesh.refine(dataclasses.replace(base, curves=None), level)
     return place_on_curves(base, straight, level)
 
 
 @pytest.mark.parametrize("name", CURVED_CATALOGUE)
-@pytest.mark.parametrize("level", [2, 5])
-def test_one_pass_equals_the_straight_refinement_then_place_on_curves(name, level):
-    # Level 2 goes through the all-blocks build, level 5 block by block; every bit is compared
-    # (tobytes: also the sign of zeros), and refining a refined mesh too.
+@pytest.mark.parametrize(("level", "block_level"), [(2, 6), (5, 6), (4, 2)])
+def test_one_pass_equals_the_straight_refinement_then_place_on_curves(
+    name, level, block_level, monkeypatch
+):
+    # block_level 2: level 4 first refines the base 2 levels, then its cells as blocks.
+    monkeypatch.setattr(blockmesh.grouped_refinement, "BLOCK_LEVEL", block_level)
+    # Every bit is compared (tobytes: also the sign of zeros), and refining a refined mesh too.
     base = blockmesh.load_domain(name).block_mesh()
     for start in (base, blockmesh.refine(base, 1)):
         got, want = blockmesh.refine(start, level), _two_pass(start, level)
