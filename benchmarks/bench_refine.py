@@ -22,8 +22,8 @@ import numpy as np
 
 import blockmesh
 from blockmesh.catalogue import catalogue_names
-from blockmesh.grouped_refinement import default_threads
 from blockmesh.template import TEMPLATE_CACHE_BYTES, cached_template_bytes, pentagon_template
+from blockmesh.threads import default_threads
 
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 

@@ -8,10 +8,11 @@ run per level too, and small blocks are refined a group at a time with whole-arr
 over ``(G, n_L)`` arrays (G blocks of ``n_L`` template nodes), which keeps the per-call overhead
 of numpy negligible and the working arrays in the CPU caches.
 
-Groups are handed to worker threads (numpy releases the interpreter lock inside its loops). The
-work is bound by memory bandwidth, above all by the first touch of the output's pages, which
-two threads share better than one. Every group writes what it alone owns, so the result is the
-same bit for bit whatever the number of threads.
+Groups are handed to worker threads (:func:`blockmesh.threads.run_parallel`; numpy releases the
+interpreter lock inside its loops) while another thread populates the output's pages
+(:mod:`blockmesh.prefault`): on two cores, two workers and that thread beat one worker by about
+13 % over the catalogue. Every group writes what it alone owns, so the result is the same bit for
+bit whatever the number of threads.
 
 Examples
 --------
@@ -25,9 +26,6 @@ Examples
 
 from __future__ import annotations
 
-import os
-import queue
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -48,21 +46,14 @@ from .blockplan import (
 )
 from .prefault import Prefault
 from .template import node_count, pentagon_template
+from .threads import run_parallel
 from .topology import boundary_slots
 
 if TYPE_CHECKING:
     from .curved_refinement import CurvedBlocks
     from .mesh import Mesh
 
-__all__ = [
-    "BLOCK_LEVEL",
-    "GROUP_NODES",
-    "MAX_THREADS",
-    "RefinedBlocks",
-    "default_threads",
-    "refine_blocks",
-    "workspace_bytes",
-]
+__all__ = ["BLOCK_LEVEL", "GROUP_NODES", "RefinedBlocks", "refine_blocks", "workspace_bytes"]
 
 #: Blocks are refined at most this many levels at once: a deeper refinement first refines the
 #: base to the difference (a mesh of 1/6^6 of the output's size) and refines its cells as blocks.
@@ -74,33 +65,6 @@ BLOCK_LEVEL = 6
 #: Template nodes of the blocks refined together (when blocks are small): the group's
 #: coordinates, ids and masks (25 bytes a node) stay in the CPU's last-level cache.
 GROUP_NODES = 1 << 18
-
-#: Worker threads at most by default: the work is bound by memory bandwidth, which a few cores
-#: saturate.
-MAX_THREADS = 8
-
-
-def default_threads() -> int:
-    """Worker threads :func:`refine_blocks` uses by default.
-
-    ``BLOCKMESH_THREADS`` in the environment when set (a whole number >= 1), else the cores this
-    process may run on, at most :data:`MAX_THREADS`. (A further thread populates the output's
-    memory, :mod:`blockmesh.prefault`; on two cores, two workers and it beat one worker and it by
-    about 13 % over the catalogue.)
-
-    Examples
-    --------
-    >>> default_threads() >= 1
-    True
-    """
-    text = os.environ.get("BLOCKMESH_THREADS", "").strip()
-    if text.isdigit() and int(text) >= 1:
-        return int(text)
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):
-        cores = os.cpu_count() or 1
-    return max(1, min(cores, MAX_THREADS))
 
 
 @dataclass(frozen=True)
@@ -139,11 +103,11 @@ def refine_blocks(
     curved : CurvedBlocks, optional
         The curve-aware rule for the blocks with a curved edge (recorded as they are refined).
     threads : int, optional
-        Worker threads (default :func:`default_threads`); 1 works in the calling thread.
+        Worker threads (default :func:`blockmesh.threads.default_threads`); 1 works in the
+        calling thread.
     progress : callable, optional
         ``progress(done, total)`` after each group of blocks, called in the calling thread.
     """
-    threads = default_threads() if threads is None else threads
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     template = pentagon_template(level)
     n_local, per_block = template.n_nodes, 6**level
@@ -172,7 +136,8 @@ def refine_blocks(
     is_curved = np.zeros(n_blocks, dtype=bool) if curved is None else curved.is_curved
     fix_level = None if curved is None else curved.fix_level
 
-    def refine_group(b0: int, b1: int, work: _Workspace) -> None:
+    def refine_group(group: tuple[int, int], work: _Workspace) -> None:
+        b0, b1 = group
         count = b1 - b0
         local, ids = work.local[:count], work.ids[:count]
         local[:, :5] = corners[base.cells[b0:b1]]
@@ -232,8 +197,16 @@ def refine_blocks(
     # finest level's run after the coarser levels' runs).
     finest = int(plan.offsets[level, 0]) if level else plan.n_nodes
     filling = [cells, parent, *filled.values(), points[:finest], points[finest:]]
+
+    reported = iter(range(1, len(groups) + 1))
     with Prefault(filling):
-        _run_groups(refine_group, groups, lambda: _Workspace(size, n_local), threads, progress)
+        run_parallel(
+            refine_group,
+            groups,
+            threads=threads,
+            workspace=lambda: _Workspace(size, n_local),
+            finished=None if progress is None else lambda *_: progress(next(reported), len(groups)),
+        )
 
     if curved is not None:
         for block in np.flatnonzero(is_curved).tolist():
@@ -328,58 +301,3 @@ class _Workspace:
         self.local = np.empty((rows, n_local), dtype=np.complex128)
         self.ids = np.empty((rows, n_local), dtype=np.int64)
         self.scratch = PlaceScratch(rows)
-
-
-def _run_groups(
-    refine_group: Callable[[int, int, _Workspace], None],
-    groups: list[tuple[int, int]],
-    workspace: Callable[[], _Workspace],
-    threads: int,
-    progress: Callable[[int, int], None] | None,
-) -> None:
-    """Call ``refine_group(b0, b1, work)`` for every group, on ``threads`` threads.
-
-    Each thread has its own working arrays ``work`` (from ``workspace()``). The first failure
-    stops the other threads and is raised here.
-    """
-    workers = min(threads, len(groups))
-    if workers <= 1:
-        arrays = workspace()
-        for done, (b0, b1) in enumerate(groups, start=1):
-            refine_group(b0, b1, arrays)
-            if progress is not None:
-                progress(done, len(groups))
-        return
-    todo: queue.SimpleQueue[tuple[int, int]] = queue.SimpleQueue()
-    for group in groups:
-        todo.put(group)
-    finished: queue.SimpleQueue[BaseException | None] = queue.SimpleQueue()
-    stop = threading.Event()
-
-    def work() -> None:
-        try:
-            mine = workspace()
-            while not stop.is_set():
-                try:
-                    b0, b1 = todo.get_nowait()
-                except queue.Empty:
-                    return
-                refine_group(b0, b1, mine)
-                finished.put(None)
-        except BaseException as error:  # handed to the calling thread, which raises it
-            finished.put(error)
-
-    pool = [threading.Thread(target=work, name=f"blockmesh-refine-{k}") for k in range(workers)]
-    for thread in pool:
-        thread.start()
-    try:
-        for done in range(1, len(groups) + 1):
-            error = finished.get()
-            if error is not None:
-                raise error
-            if progress is not None:
-                progress(done, len(groups))
-    finally:
-        stop.set()
-        for thread in pool:
-            thread.join()

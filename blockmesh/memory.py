@@ -180,7 +180,8 @@ def refinement_working_bytes(
     sparse adjacency. A template (about :data:`TEMPLATE_BYTES_PER_CELL` bytes per cell of its
     level) is counted unless the template cache already holds it.
     """
-    from .grouped_refinement import BLOCK_LEVEL, default_threads, workspace_bytes
+    from .grouped_refinement import BLOCK_LEVEL, workspace_bytes
+    from .threads import default_threads
 
     if smooth:
         working = 41 * node_count(steps) * n_blocks + 200 * n_blocks * 6**steps

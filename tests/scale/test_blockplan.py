@@ -154,10 +154,12 @@ def test_threads_must_be_a_whole_number_of_at_least_one(catalogue):
 
 
 def test_default_threads_follow_the_environment(monkeypatch):
+    from blockmesh.threads import MAX_THREADS, default_threads
+
     monkeypatch.setenv("BLOCKMESH_THREADS", "3")
-    assert grouped.default_threads() == 3
+    assert default_threads() == 3
     monkeypatch.setenv("BLOCKMESH_THREADS", "none")
-    assert 1 <= grouped.default_threads() <= grouped.MAX_THREADS
+    assert 1 <= default_threads() <= MAX_THREADS
 
 
 def test_template_cache_is_bounded(monkeypatch):
