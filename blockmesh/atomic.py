@@ -39,19 +39,18 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import errno
-import functools
 import os
 import re
 import secrets
 import shutil
 import socket
 import stat
-import sys
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from .errors import ArgumentTypeError, ExportError
+from .libc import libc_function
 
 __all__ = [
     "as_path",
@@ -446,17 +445,9 @@ def scratch_file(target: Path) -> Iterator[Path]:
 
 
 # -------------------------------------------------------------------------------- folders
-@functools.cache
 def _renameat2() -> Callable[..., int] | None:
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        func = ctypes.CDLL(None, use_errno=True).renameat2
-    except (AttributeError, OSError):
-        return None
-    func.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
-    func.restype = ctypes.c_int
-    return func
+    arguments = (ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint)
+    return libc_function("renameat2", arguments, ctypes.c_int)
 
 
 _AT_FDCWD, _RENAME_EXCHANGE = -100, 2

@@ -21,13 +21,13 @@ Examples
 from __future__ import annotations
 
 import ctypes
-import functools
-import sys
 import threading
 from collections.abc import Sequence
 from types import TracebackType
 
 import numpy as np
+
+from .libc import libc_function
 
 __all__ = ["Prefault", "populate"]
 
@@ -37,18 +37,9 @@ _PAGE = 4096
 _STEP = 4 << 20
 
 
-@functools.cache
 def _madvise():
-    """The C library's ``madvise``, from the symbols already loaded (None off Linux)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        madvise = ctypes.CDLL(None, use_errno=True).madvise
-    except (OSError, AttributeError):
-        return None
-    madvise.argtypes = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int]
-    madvise.restype = ctypes.c_int
-    return madvise
+    """The C library's ``madvise`` (None off Linux)."""
+    return libc_function("madvise", (ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int), ctypes.c_int)
 
 
 def populate(array: np.ndarray, start: int = 0, stop: int | None = None) -> bool:
