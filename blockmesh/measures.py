@@ -76,6 +76,9 @@ class CellMeasures:
         :meth:`~blockmesh.mesh.Mesh.check_geometry` refuses).
     first_invalid : int
         The first such cell, or -1.
+    bandwidth : int
+        Largest difference between two node ids of one cell (see
+        :meth:`~blockmesh.mesh.Mesh.bandwidth`), read in the same pass.
     """
 
     area: float
@@ -87,6 +90,7 @@ class CellMeasures:
     not_strictly_convex: int
     invalid: int
     first_invalid: int
+    bandwidth: int
 
 
 class _Accumulator:
@@ -99,21 +103,28 @@ class _Accumulator:
         self.max_aspect = 0.0
         self.not_strictly_convex = 0
         self.invalid, self.first_invalid = 0, -1
+        self.bandwidth = 0
 
     def add(self, start: int, areas, diam2, min_angle: float, max_angle: float, sharp) -> None:
-        """Fold in one chunk; ``sharp`` None means every corner of it turns left enough."""
-        smallest = float(areas.min())
+        """Fold in one chunk; ``sharp`` None means every corner of it turns left enough.
+
+        Extremes are read with ``argmin``/``argmax``, which let other threads run (NumPy's
+        ``min``/``max`` reductions hold the interpreter lock here); NaN wins as in ``min``.
+        """
+        smallest = float(areas[np.argmin(areas)])
         self.area_sums.append(float(areas.sum()))
         self.min_area = min(self.min_area, smallest)
-        self.max_area = max(self.max_area, float(areas.max()))
+        self.max_area = max(self.max_area, float(areas[np.argmax(areas)]))
         self.min_angle = min(self.min_angle, min_angle)
         self.max_angle = max(self.max_angle, max_angle)
+        if sharp is None and smallest > 0:  # the common case: no cell of the chunk is invalid
+            aspect = np.divide(diam2, areas, out=diam2)
+            self.max_aspect = max(self.max_aspect, float(aspect[np.argmax(aspect)]))
+            return
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             aspect = np.where(areas > 0, diam2 / np.where(areas > 0, areas, 1.0), np.inf)
         self.max_aspect = max(self.max_aspect, float(aspect.max()))
-        if sharp is None:  # every corner is known to turn left by more than the tolerance
-            if smallest > 0:
-                return
+        if sharp is None:
             bad = ~(areas > 0)
         else:
             self.not_strictly_convex += int(np.count_nonzero(~sharp))
@@ -138,6 +149,7 @@ class _Accumulator:
             if whole.first_invalid < 0:
                 whole.first_invalid = part.first_invalid
             whole.invalid += part.invalid
+            whole.bandwidth = max(whole.bandwidth, part.bandwidth)
         return whole
 
     def result(self) -> CellMeasures:
@@ -152,6 +164,7 @@ class _Accumulator:
             not_strictly_convex=self.not_strictly_convex,
             invalid=self.invalid,
             first_invalid=self.first_invalid,
+            bandwidth=self.bandwidth,
         )
 
 
@@ -196,7 +209,7 @@ def measure_cells(
     """
     n_cells = mesh.n_cells
     if n_cells == 0:
-        return CellMeasures(0.0, math.inf, -math.inf, math.inf, -math.inf, 0.0, 0, 0, -1)
+        return CellMeasures(0.0, math.inf, -math.inf, math.inf, -math.inf, 0.0, 0, 0, -1, 0)
     chunk = min(chunk, n_cells)
     step = chunk * _CHUNKS_PER_PIECE
     pieces = [(start, min(start + step, n_cells)) for start in range(0, n_cells, step)]
@@ -234,6 +247,20 @@ class _Workspace:
         self.scratch = np.empty(5 * chunk)
         self.areas = np.empty(chunk)
         self.diam2 = np.empty(chunk)
+        self.ids = np.empty(2 * chunk, dtype=np.int64)
+
+
+def _widest(cells: np.ndarray, work: _Workspace) -> int:
+    """The largest difference between two node ids of one of ``cells`` (m, 5)."""
+    columns = cells.T
+    high, low = work.ids[: 2 * cells.shape[0]].reshape(2, -1)
+    np.maximum(columns[0], columns[1], out=high)
+    np.minimum(columns[0], columns[1], out=low)
+    for k in range(2, 5):
+        np.maximum(high, columns[k], out=high)
+        np.minimum(low, columns[k], out=low)
+    high -= low
+    return int(high[np.argmax(high)])
 
 
 def _measure_piece(mesh: Mesh, piece: tuple[int, int], work: _Workspace) -> _Accumulator:
@@ -248,6 +275,7 @@ def _measure_piece(mesh: Mesh, piece: tuple[int, int], work: _Workspace) -> _Acc
         for start in range(piece[0], piece[1], work.chunk):
             cells = mesh.cells[start : min(start + work.chunk, piece[1])]
             m = cells.shape[0]
+            acc.bandwidth = max(acc.bandwidth, _widest(cells, work))
             # (5, m); the template's ids were checked by the Mesh.
             z = np.take(z_points, cells.T, mode="clip", out=work.z[: 5 * m].reshape(5, m))
             # b[:, j] = corner j mod 5 (x then y), so that every edge and diagonal is one slice.
@@ -265,7 +293,7 @@ def _measure_piece(mesh: Mesh, piece: tuple[int, int], work: _Workspace) -> _Acc
             # Corners 1..4, 0: incoming edge j, outgoing edge j+1.
             cross = np.multiply(ex[:-1], ey[1:], out=work.cross[: 5 * m].reshape(5, m))
             cross -= np.multiply(ey[:-1], ex[1:], out=scratch)
-            if not cross.min() > 0:
+            if not cross.flat[np.argmin(cross)] > 0:  # argmin: NaN is found, as by min
                 _plain_chunk(mesh.points, cells, start, acc)
                 continue
             dot = np.multiply(ex[:-1], ex[1:], out=work.dot[: 5 * m].reshape(5, m))
@@ -278,15 +306,21 @@ def _measure_piece(mesh: Mesh, piece: tuple[int, int], work: _Workspace) -> _Acc
             # 2A = sum_k (x_k - x_0)(y_(k+1) - y_(k-1)), k = 1..4.
             terms = np.subtract(b[0, 1:5], b[0, :1], out=scratch[:4])
             terms *= diagonals[1, :4]
-            areas = np.add.reduce(terms, axis=0, out=work.areas[:m])
+            areas = np.add(terms[0], terms[1], out=work.areas[:m])
+            areas += terms[2]
+            areas += terms[3]
             areas *= 0.5
-            # The diameter: the longest edge or diagonal.
+            # The diameter: the longest edge or diagonal. (Element-wise ufuncs rather than
+            # reductions along an axis, which hold the interpreter lock.)
             edges *= edges
             diagonals *= diagonals
             lengths = np.add(edges[0, 1:], edges[1, 1:], out=scratch)
-            diam2 = np.maximum.reduce(lengths, axis=0, out=work.diam2[:m])
+            diam2 = np.maximum(lengths[0], lengths[1], out=work.diam2[:m])
+            for k in range(2, 5):
+                np.maximum(diam2, lengths[k], out=diam2)
             lengths = np.add(diagonals[0], diagonals[1], out=scratch)
-            np.maximum(diam2, np.maximum.reduce(lengths, axis=0), out=diam2)
+            for k in range(5):
+                np.maximum(diam2, lengths[k], out=diam2)
             # The largest cot is the smallest turn: the largest interior angle; and vice versa.
             turn = np.arctan2(cross.flat[[low, high]], dot.flat[[low, high]])
             min_angle, max_angle = (180.0 - np.degrees(turn)).tolist()

@@ -108,11 +108,11 @@ def _one_name(args: argparse.Namespace) -> str | None:
 
 def is_mesh_file(name: str) -> bool:
     """Whether ``name`` is an existing file (or OpenFOAM case) in a format blockmesh reads."""
+    path = Path(name)
+    if not path.exists():  # a catalogue name: the formats are not imported
+        return False
     from ..io import FORMATS
 
-    path = Path(name)
-    if not path.exists():
-        return False
     suffix = path.suffix.lower()
     extensions = {ext for fmt in FORMATS.values() if fmt.can_read for ext in fmt.extensions}
     return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())

@@ -14,7 +14,6 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
@@ -190,8 +189,8 @@ def _mesh_one(
             )
     seconds = time.perf_counter() - started
     with _stage(progress, "measuring the cells", prediction) as tick:
-        bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
         quality = mesh.quality(progress=tick)
+        bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
     if options["numbering"] == "rcm":
         with _stage(progress, "renumbering (reverse Cuthill-McKee)", prediction):
             mesh = mesh.with_rcm_numbering()
@@ -431,6 +430,8 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
             )
     bar = ProgressBar(f"meshing {len(names)} domains", enabled=ProgressBar.wanted(args))
     results: list[dict[str, Any]] = []
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
     workers = min(2, len(names), os.cpu_count() or 1)
     with ProcessPoolExecutor(max_workers=workers) as pool:
         futures = {pool.submit(_batch_worker, name, options, output): name for name in names}

@@ -43,14 +43,15 @@ Examples
 
 from __future__ import annotations
 
+import functools
+import importlib
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..atomic import as_path
 from ..errors import BlockMeshError, ExportError
 from ..mesh import Mesh
-from . import legacy_vtk, mat, msh, npz, openfoam, vtu, xdmf
 from ._common import Format, check_mesh
 from .split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
 
@@ -68,18 +69,34 @@ __all__ = [
     "write",
 ]
 
-#: The format modules, in the order of the table above: each defines ``FORMAT``.
-_MODULES = (vtu, legacy_vtk, xdmf, msh, mat, openfoam, npz)
+#: The format modules, in the order of the table above: each defines ``FORMAT``. They are
+#: imported when a format is first needed (a command that writes nothing does not pay for them).
+_MODULES = ("vtu", "legacy_vtk", "xdmf", "msh", "mat", "openfoam", "npz")
 
-#: The formats, by name (the ``format=`` names), in the order of the table above.
-FORMATS: dict[str, Format] = {m.FORMAT.name: m.FORMAT for m in _MODULES}
+if TYPE_CHECKING:
+    #: The formats, by name (the ``format=`` names), in the order of the table above.
+    FORMATS: dict[str, Format]
 
-_BY_EXTENSION: dict[str, Format] = {ext: fmt for fmt in FORMATS.values() for ext in fmt.extensions}
+
+@functools.cache
+def _registry() -> tuple[dict[str, Format], dict[str, Format]]:
+    """The formats by name and by extension, their modules imported on the first call."""
+    modules = [importlib.import_module(f".{name}", __name__) for name in _MODULES]
+    by_name = {m.FORMAT.name: m.FORMAT for m in modules}
+    by_extension = {ext: fmt for fmt in by_name.values() for ext in fmt.extensions}
+    return by_name, by_extension
+
+
+def __getattr__(name: str) -> Any:
+    """``FORMATS``, built on first use (PEP 562)."""
+    if name == "FORMATS":
+        return _registry()[0]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _supported() -> str:
     rows = []
-    for fmt in FORMATS.values():
+    for fmt in _registry()[0].values():
         where = " ".join(fmt.extensions) if fmt.extensions else "a directory or .../polyMesh"
         rows.append(f"{where} ({fmt.name}: {fmt.description})")
     return "; ".join(rows)
@@ -106,23 +123,24 @@ def format_for_path(path: str | os.PathLike[str], format: str | None = None) -> 
     ...
     blockmesh.errors.ExportError: cannot tell the format of 'mesh.stl' from its extension '.stl'...
     """
-    names = "|".join(FORMATS)
+    formats, by_extension = _registry()
+    names = "|".join(formats)
     if format is not None:
         key = str(format).lower()
-        if key in FORMATS:
-            return FORMATS[key]
+        if key in formats:
+            return formats[key]
         ext = key if key.startswith(".") else "." + key
-        if ext in _BY_EXTENSION:
-            return _BY_EXTENSION[ext]
+        if ext in by_extension:
+            return by_extension[ext]
         raise ExportError(
             f"unknown format {format!r}; format= takes {names}. Supported: {_supported()}"
         )
     p = Path(path)
     suffix = p.suffix.lower()
-    if suffix in _BY_EXTENSION:
-        return _BY_EXTENSION[suffix]
+    if suffix in by_extension:
+        return by_extension[suffix]
     if p.name == "polyMesh" or p.is_dir():
-        return FORMATS["openfoam"]
+        return formats["openfoam"]
     what = f"its extension {suffix!r}" if suffix else "it (no extension)"
     raise ExportError(
         f"cannot tell the format of {str(path)!r} from {what}. Supported: {_supported()}. "
@@ -140,9 +158,9 @@ def check_options(
 
     Examples
     --------
-    >>> check_options(FORMATS["msh"])
+    >>> check_options(format_for_path("mesh.msh"))
     {'split': 'tri5'}
-    >>> check_options(FORMATS["msh"], split="tri3", compression="lzma")
+    >>> check_options(format_for_path("mesh.msh"), split="tri3", compression="lzma")
     Traceback (most recent call last):
     ...
     blockmesh.errors.ExportError: msh takes no compression (got compression=...); its options: ...
@@ -159,7 +177,7 @@ def check_options(
             )
         kwargs["split"] = chosen
     elif split is not None:
-        splitting = ", ".join(f.name for f in FORMATS.values() if f.splits)
+        splitting = ", ".join(f.name for f in _registry()[0].values() if f.splits)
         raise ExportError(
             f"split={split!r} applies to {splitting} only; {fmt.name} keeps the pentagons "
             f"({accepted})"
