@@ -337,6 +337,31 @@ class CurvedBlocks:
         local[u_ids] = u.view(np.complex128)[..., 0]
         local[w_ids] = w.view(np.complex128)[..., 0]
 
+    def fix_finest_level(
+        self, local: np.ndarray, ids: np.ndarray, own: np.ndarray, block: int, points: np.ndarray
+    ) -> None:
+        """:meth:`fix_level` at the finest level when that level went straight to ``points``.
+
+        The refinement writes the finest level's straight coordinates into the output without
+        keeping them in ``local`` (n_L,) complex128, whose coarser levels are set. Here the
+        straight midpoints of the parents touching a curved edge are computed again (the same
+        operations as :func:`~blockmesh.blockplan.chunk_coordinates`), :meth:`fix_level` moves
+        them and their inner points, and the nodes ``block`` numbers itself (``own``) are
+        written to ``points`` at their global ``ids`` (n_L,).
+        """
+        edges = tuple(np.flatnonzero(self.row[block] >= 0).tolist())
+        v_ids, u_ids, w_ids, _ = _curved_parents(self.level, self.level, edges)
+        v = local[v_ids].view(np.float64).reshape(v_ids.shape[0], 5, 2)
+        u = np.empty_like(v)
+        np.add(v[:, :4], v[:, 1:], out=u[:, :4])
+        np.add(v[:, 4], v[:, 0], out=u[:, 4])
+        u *= 0.5
+        local[u_ids] = u.view(np.complex128)[..., 0]
+        self.fix_level(local, self.level, block)
+        nodes = np.concatenate([u_ids.ravel(), w_ids.ravel()])
+        nodes = nodes[own[nodes]]
+        points[ids[nodes]] = local[nodes]
+
     def record(self, block: int, edge_ids: np.ndarray) -> None:
         """Note the global ids of ``block``'s nodes along its edges.
 

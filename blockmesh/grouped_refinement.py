@@ -135,6 +135,7 @@ def refine_blocks(
     bounds = [node_count(step) for step in range(level + 1)]
     is_curved = np.zeros(n_blocks, dtype=bool) if curved is None else curved.is_curved
     fix_level = None if curved is None else curved.fix_level
+    fix_finest = None if curved is None else curved.fix_finest_level
 
     def refine_group(group: tuple[int, int], work: _Workspace) -> None:
         b0, b1 = group
@@ -143,8 +144,9 @@ def refine_blocks(
         local[:, :5] = corners[base.cells[b0:b1]]
         curved_here = (np.flatnonzero(is_curved[b0:b1]) + b0).tolist()
         patterns = [node_pattern(level, tuple(plan.taken[b].tolist())) for b in range(b0, b1)]
-        # Without curves, the finest level (5/6 of the nodes) goes straight to the output.
-        direct = level > 0 and not curved_here
+        # The finest level (5/6 of the nodes) goes straight to the output; curved blocks then
+        # correct their nodes near the curves there (fix_finest_level).
+        direct = level > 0
         for step in range(1, level + 1 - direct):
             place_level(local, template.steps[step - 1], bounds[step - 1], work.scratch)
             for block in curved_here:
@@ -159,6 +161,10 @@ def refine_blocks(
                 work.scratch,
             )
         group_node_ids(plan, b0, b1, edge_ids[b0:b1], out=ids)
+        if direct:
+            for block in curved_here:
+                k = block - b0
+                fix_finest(local[k], ids[k], patterns[k].own, block, points)  # type: ignore[misc]
         shares = [any(pattern.taken) for pattern in patterns]
         for step in range(1, level + 1 - direct):
             lo, hi = bounds[step - 1], bounds[step]
