@@ -41,9 +41,7 @@ import ctypes
 import errno
 import os
 import re
-import secrets
 import shutil
-import socket
 import stat
 import time
 from collections.abc import Callable, Iterator
@@ -67,7 +65,23 @@ __all__ = [
     "scratch_file",
 ]
 
-_HOST = re.sub(r"[^A-Za-z0-9]", "", socket.gethostname())[:24] or "host"
+
+def _host_name() -> str:
+    """The machine's name (without importing ``socket``, whose import costs start-up time)."""
+    try:
+        return os.uname().nodename
+    except AttributeError:  # Windows
+        import socket
+
+        return socket.gethostname()
+
+
+def _token(n_bytes: int) -> str:
+    """``2 n_bytes`` random hex digits (as ``secrets.token_hex``, without its imports)."""
+    return os.urandom(n_bytes).hex()
+
+
+_HOST = re.sub(r"[^A-Za-z0-9]", "", _host_name())[:24] or "host"
 _TAG = re.compile(r"(?P<host>[A-Za-z0-9]+)-(?P<pid>\d+)-[0-9a-f]{6}")
 #: Names ``tempfile.mkstemp`` gave temporaries before the tags: stale once an hour old.
 _UNTAGGED = re.compile(r"[a-z0-9_]{8}")
@@ -211,7 +225,7 @@ def _mode_for(target: Path, default: int) -> int:
 
 
 def _temp_path(target: Path, kind: str = "tmp") -> Path:
-    tag = f"{_HOST}-{os.getpid()}-{secrets.token_hex(3)}"
+    tag = f"{_HOST}-{os.getpid()}-{_token(3)}"
     return target.with_name(f".{target.name}.{tag}.{kind}")
 
 
@@ -567,7 +581,7 @@ def atomic_with_data(
     with export_errors(light):
         clean_stale(light)
         while True:
-            data = light.with_name(f"{light.stem}.{secrets.token_hex(4)}{suffix}")
+            data = light.with_name(f"{light.stem}.{_token(4)}{suffix}")
             if not os.path.lexists(data):
                 break
         light_tmp, data_tmp = _new_temp_file(light), _new_temp_file(light)
