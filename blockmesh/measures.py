@@ -248,12 +248,12 @@ class _Workspace:
         self.areas = np.empty(chunk)
         self.diam2 = np.empty(chunk)
         self.ids = np.empty(2 * chunk, dtype=np.int64)
+        self.corner_ids = np.empty(5 * chunk, dtype=np.int64)
 
 
-def _widest(cells: np.ndarray, work: _Workspace) -> int:
-    """The largest difference between two node ids of one of ``cells`` (m, 5)."""
-    columns = cells.T
-    high, low = work.ids[: 2 * cells.shape[0]].reshape(2, -1)
+def _widest(columns: np.ndarray, work: _Workspace) -> int:
+    """The largest difference between two node ids of one cell; ``columns`` (5, m) are the ids."""
+    high, low = work.ids[: 2 * columns.shape[1]].reshape(2, -1)
     np.maximum(columns[0], columns[1], out=high)
     np.minimum(columns[0], columns[1], out=low)
     for k in range(2, 5):
@@ -275,9 +275,12 @@ def _measure_piece(mesh: Mesh, piece: tuple[int, int], work: _Workspace) -> _Acc
         for start in range(piece[0], piece[1], work.chunk):
             cells = mesh.cells[start : min(start + work.chunk, piece[1])]
             m = cells.shape[0]
-            acc.bandwidth = max(acc.bandwidth, _widest(cells, work))
-            # (5, m); the template's ids were checked by the Mesh.
-            z = np.take(z_points, cells.T, mode="clip", out=work.z[: 5 * m].reshape(5, m))
+            # Corner-major, contiguous: np.take would copy a strided index array every time.
+            columns = work.corner_ids[: 5 * m].reshape(5, m)
+            np.copyto(columns, cells.T)
+            acc.bandwidth = max(acc.bandwidth, _widest(columns, work))
+            # (5, m); the ids were checked by the Mesh.
+            z = np.take(z_points, columns, mode="clip", out=work.z[: 5 * m].reshape(5, m))
             # b[:, j] = corner j mod 5 (x then y), so that every edge and diagonal is one slice.
             b = work.b[: 14 * m].reshape(2, 7, m)
             b[0, :5] = z.real
