@@ -403,8 +403,10 @@ class Mesh:
     ) -> MeshQuality:
         """Angles, aspect ratios and areas of the cells, in chunks (bounded memory).
 
-        One pass over the cells, shared with :attr:`area` and :meth:`check_geometry` and cached;
-        ``chunk`` (cells per pass step) only changes the memory used, not the result.
+        One pass over the cells, shared with :attr:`area`, :meth:`check_geometry` and
+        :meth:`bandwidth` and cached; ``chunk`` (cells per pass step) changes the memory used, not
+        the measures (the areas are summed chunk by chunk, so :attr:`area` may differ in its last
+        bits with it).
         ``progress(done, total)`` hears how many cells are measured, when they are.
 
         Examples
