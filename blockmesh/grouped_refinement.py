@@ -170,18 +170,17 @@ def refine_blocks(
             lo, hi = bounds[step - 1], bounds[step]
             start = int(plan.offsets[step, b0])
             stop = int(plan.offsets[step, b1 - 1] + plan.counts[step, b1 - 1])
-            # The nodes these blocks number, in order (lower blocks have the others).
+            # The nodes these blocks number, in order (lower blocks have the others): one run of
+            # the output, gathered from the rows of local at once.
             if not any(shares):
                 np.copyto(points[start:stop].reshape(count, hi - lo), local[:, lo:hi])
                 continue
-            for k, block in enumerate(range(b0, b1)):
-                first = int(plan.offsets[step, block])
-                target = points[first : first + int(plan.counts[step, block])]
-                if shares[k]:
-                    keep = patterns[k].keep[step - 1]
-                    np.take(local[k, lo:hi], keep, out=target, mode="clip")
-                else:
-                    np.copyto(target, local[k, lo:hi])
+            keeps = [pattern.keep[step - 1] for pattern in patterns]
+            index = np.concatenate(keeps)
+            index += np.repeat(
+                np.arange(lo, lo + count * n_local, n_local), [k.size for k in keeps]
+            )
+            np.take(local.reshape(-1), index, out=points[start:stop], mode="clip")
         np.take(
             ids,
             template.cells,
