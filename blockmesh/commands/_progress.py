@@ -47,7 +47,7 @@ class StageProgress:
         if self._fraction is not None:
             done, total = self._fraction
             filled = int(_WIDTH * done / max(total, 1))
-            bar = f" [{'#' * filled}{'.' * (_WIDTH - filled)}] {done}/{total}"
+            bar = f" [{'#' * filled}{'.' * (_WIDTH - filled)}] {done:,}/{total:,}"
         else:
             bar = " ..."
         end = f" done in {elapsed:.1f} s\n" if final else f" {elapsed:6.1f} s"

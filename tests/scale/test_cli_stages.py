@@ -79,6 +79,11 @@ def test_stage_lines_appear_for_slow_stages_only(monkeypatch):
         tick(2, 2)
     text = stream.getvalue()
     assert "sp: refining [" in text and "2/2" in text and "done in" in text
+    counts = io.StringIO()
+    with StageProgress("sp", enabled=True, stream=counts).stage("measuring the cells") as tick:
+        tick(8_912_896, 13_436_928)
+        time.sleep(0.05)
+    assert "8,912,896/13,436,928" in counts.getvalue()  # big counts are readable
     monkeypatch.setattr(progress_module, "SHOW_AFTER", 10.0)
     quiet = io.StringIO()
     with StageProgress("sp", enabled=True, stream=quiet).stage("measuring"):
