@@ -302,7 +302,7 @@ class ProgressBar:
         filled = int(width * done / max(total, 1))
         elapsed = time.perf_counter() - self.start
         sys.stderr.write(
-            f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} "
+            f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {done:,}/{total:,} "
             f"{elapsed:6.1f} s"
         )
         if done >= total:
