@@ -45,7 +45,7 @@ from .threads import run_parallel
 if TYPE_CHECKING:
     from .mesh import Mesh
 
-__all__ = ["CHUNK", "CellMeasures", "cell_shapes", "measure_cells"]
+__all__ = ["CHUNK", "CellMeasures", "cell_shapes", "measure_cells", "widest_id_spread"]
 
 #: Cells measured at once, with each thread's working arrays (about 480 bytes a cell) reused from
 #: chunk to chunk (8192 was 1.2-1.4x faster than 2048 or 4096 here, and scales with threads).
@@ -251,9 +251,21 @@ class _Workspace:
         self.corner_ids = np.empty(5 * chunk, dtype=np.int64)
 
 
-def _widest(columns: np.ndarray, work: _Workspace) -> int:
-    """The largest difference between two node ids of one cell; ``columns`` (5, m) are the ids."""
-    high, low = work.ids[: 2 * columns.shape[1]].reshape(2, -1)
+def widest_id_spread(columns: np.ndarray, out: np.ndarray | None = None) -> int:
+    """The largest difference between two ids of one cell; ``columns`` (5, m): corner k's ids.
+
+    The bandwidth of a numbering over these cells (:meth:`blockmesh.mesh.Mesh.bandwidth`).
+    ``out`` (2, m) int64, when given, holds the temporaries (nothing is allocated).
+
+    Examples
+    --------
+    >>> widest_id_spread(np.array([[0, 7], [1, 9], [2, 8], [3, 3], [4, 5]]))
+    6
+    """
+    m = columns.shape[1]
+    if m == 0:
+        return 0
+    high, low = np.empty((2, m), dtype=np.int64) if out is None else out
     np.maximum(columns[0], columns[1], out=high)
     np.minimum(columns[0], columns[1], out=low)
     for k in range(2, 5):
@@ -278,7 +290,8 @@ def _measure_piece(mesh: Mesh, piece: tuple[int, int], work: _Workspace) -> _Acc
             # Corner-major, contiguous: np.take would copy a strided index array every time.
             columns = work.corner_ids[: 5 * m].reshape(5, m)
             np.copyto(columns, cells.T)
-            acc.bandwidth = max(acc.bandwidth, _widest(columns, work))
+            spread = widest_id_spread(columns, work.ids[: 2 * m].reshape(2, m))
+            acc.bandwidth = max(acc.bandwidth, spread)
             # (5, m); the ids were checked by the Mesh.
             z = np.take(z_points, columns, mode="clip", out=work.z[: 5 * m].reshape(5, m))
             # b[:, j] = corner j mod 5 (x then y), so that every edge and diagonal is one slice.

@@ -24,7 +24,7 @@ import numpy as np
 from .curves import CurvedEdges
 from .errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
 from .geometry import signed_area
-from .measures import CellMeasures, measure_cells
+from .measures import CellMeasures, measure_cells, widest_id_spread
 from .topology import boundary_of_cells, check_boundary
 
 __all__ = ["Mesh", "MeshQuality"]
@@ -469,17 +469,11 @@ class Mesh:
         """
         if "measures" in self._cache:
             return self._cache["measures"].bandwidth
+        work = np.empty((2, _BANDWIDTH_CHUNK), dtype=np.int64)
         widest = 0
         for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
             columns = self.cells[start : start + _BANDWIDTH_CHUNK].T
-            high = np.maximum(
-                np.maximum(columns[0], columns[1]), np.maximum(columns[2], columns[3])
-            )
-            np.maximum(high, columns[4], out=high)
-            low = np.minimum(np.minimum(columns[0], columns[1]), np.minimum(columns[2], columns[3]))
-            np.minimum(low, columns[4], out=low)
-            high -= low
-            widest = max(widest, int(high.max()))
+            widest = max(widest, widest_id_spread(columns, work[:, : columns.shape[1]]))
         return widest
 
     def renumbered(self, order: np.ndarray) -> Mesh:

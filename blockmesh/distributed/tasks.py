@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..measures import measure_cells
+from ..measures import measure_cells, widest_id_spread
 from ..memory import peak_rss, process_rss
 from .files import piece_name, write_h5_piece, write_vtu_piece
 from .partition import Partitioning
@@ -38,18 +38,15 @@ __all__ = ["integrate_piece_task", "piece_summary", "write_piece_task"]
 
 def _global_bandwidth(piece: Piece, chunk: int = 1 << 15) -> int:
     """Largest difference of global node ids within one cell of the piece (column by column)."""
-    widest = 0
     ids = piece.global_node_ids
     cells = piece.mesh.cells
-    for start in range(0, cells.shape[0], chunk):
-        columns = np.take(ids, cells[start : start + chunk].T, mode="clip")
-        high = np.maximum(np.maximum(columns[0], columns[1]), np.maximum(columns[2], columns[3]))
-        np.maximum(high, columns[4], out=high)
-        low = np.minimum(np.minimum(columns[0], columns[1]), np.minimum(columns[2], columns[3]))
-        np.minimum(low, columns[4], out=low)
-        high -= low
-        widest = max(widest, int(high.max(initial=0)))
-    return widest
+    return max(
+        (
+            widest_id_spread(np.take(ids, cells[start : start + chunk].T, mode="clip"))
+            for start in range(0, cells.shape[0], chunk)
+        ),
+        default=0,
+    )
 
 
 def _checksum(piece: Piece) -> int:
