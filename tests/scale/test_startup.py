@@ -32,6 +32,44 @@ def test_help_and_version_import_nothing_heavy(argv):
     assert out.stdout.strip().splitlines()[-1] == "none"
 
 
+FORMAT_MODULES = [
+    f"blockmesh.io.{name}"
+    for name in ("vtu", "legacy_vtk", "xdmf", "msh", "mat", "openfoam", "npz")
+]
+
+MODULES_PROBE = """
+import sys
+from blockmesh.cli import main
+assert main({argv!r}) == 0
+print(",".join(m for m in {names!r} if m in sys.modules) or "none")
+"""
+
+
+def _loaded(argv: list[str], names: list[str], cwd) -> list[str]:
+    """Which of ``names`` a fresh interpreter has loaded after ``blockmesh ARGV``."""
+    out = subprocess.run(
+        [sys.executable, "-c", MODULES_PROBE.format(argv=argv, names=names)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    last = out.stdout.strip().splitlines()[-1]
+    return [] if last == "none" else last.split(",")
+
+
+def test_meshing_without_output_imports_no_export_format(tmp_path):
+    names = [*FORMAT_MODULES, "socket", "secrets", "blockmesh.refinement"]
+    assert _loaded(["mesh", "sp", "--level", "1"], names, tmp_path) == ["blockmesh.refinement"]
+
+
+def test_writing_imports_the_formats(tmp_path):
+    assert _loaded(["mesh", "sp", "--level", "1", "-o", "m.vtu"], FORMAT_MODULES, tmp_path) == (
+        FORMAT_MODULES
+    )
+    assert (tmp_path / "m.vtu").is_file()
+
+
 def test_import_blockmesh_is_lazy():
     code = "import sys, blockmesh; print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
