@@ -78,7 +78,7 @@ _SPARSE = (("scipy.sparse.csgraph", 30_000_000),)
 STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
     ("report",): StageCost(0, 1_000_000),
     ("rcm",): StageCost(760, 0, _SPARSE),
-    ("plot",): StageCost(26, 5_000_000, _PLOT),
+    ("plot",): StageCost(10, 20_000_000, _PLOT),
     ("plot", "polygons"): StageCost(900, 5_000_000, _PLOT),
     ("quality_plot",): StageCost(26, 60_000_000, _PLOT),
     ("export", "xdmf", "none"): StageCost(60, 12_000_000, _IO),
