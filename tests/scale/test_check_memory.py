@@ -6,6 +6,8 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import blockmesh
 from blockmesh.errors import TopologyError
@@ -38,3 +40,42 @@ def test_check_boundary_agrees_with_boundary_slots_across_chunks():
             check_boundary(cells, broken, n)
         with pytest.raises(TopologyError, match=f"boundary edge {row} "):
             boundary_slots(cells, cell_neighbours(cells, n), broken, n)
+
+
+def _verdict(check, *args) -> str:
+    try:
+        check(*args)
+    except TopologyError as error:
+        message = str(error)
+        return message.split(" (")[0] if message.startswith("boundary edge ") else message[:40]
+    return "ok"
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.sampled_from(["ring", "lake-island", "square-cut", "annulus"]),
+    st.sampled_from(["none", "reverse", "interior", "interior reversed", "twice", "drop"]),
+    st.integers(0, 2**32 - 1),
+)
+def test_check_boundary_gives_the_verdict_of_boundary_slots(name, change, seed):
+    """Listed boundaries broken in every way a file can break them, against the reference."""
+    mesh = blockmesh.load_domain(name).mesh(2)
+    cells, n = mesh.cells, mesh.n_points
+    neighbour = cell_neighbours(cells, n)
+    edges = mesh.boundary_edges.copy()
+    rng = np.random.default_rng(seed)
+    row = int(rng.integers(edges.shape[0]))
+    if change == "reverse":
+        edges[row] = edges[row, ::-1]
+    elif change.startswith("interior"):
+        cell, side = np.argwhere(neighbour >= 0)[int(rng.integers(np.sum(neighbour >= 0)))]
+        edges[row] = cells[cell, side], cells[cell, (side + 1) % 5]
+        if change.endswith("reversed"):
+            edges[row] = edges[row, ::-1]
+    elif change == "twice":
+        edges[row] = edges[(row + 1) % edges.shape[0]]
+    elif change == "drop":
+        edges = np.delete(edges, row, axis=0)
+    expected = _verdict(boundary_slots, cells, neighbour, edges, n)
+    assert _verdict(check_boundary, cells, edges, n) == expected
+    assert (expected == "ok") == (change == "none")

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 import blockmesh
 from blockmesh import DomainError, Mesh
 from blockmesh.geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
-from blockmesh.measures import measure_cells
+from blockmesh.measures import CHUNK, measure_cells, signed_areas
 
 
 def _plain(mesh: Mesh) -> dict[str, float]:
@@ -118,3 +118,60 @@ def test_bandwidth_matches_the_plain_formula(catalogue):
             assert mesh.bandwidth() == plain
             mesh.quality()
             assert "measures" in mesh._cache and mesh.bandwidth() == plain
+
+
+def _same_bits(points, cells) -> None:
+    xy = np.asarray(points, dtype=float)[cells]
+    expected = signed_area(xy)
+    got = signed_areas(np.asarray(points, dtype=float), np.asarray(cells))
+    assert got.dtype == np.float64 and got.shape == expected.shape
+    assert np.array_equal(got.view(np.int64), expected.view(np.int64))  # every bit, signs of zero
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=5, max_size=40),
+    st.integers(0, 2**32 - 1),
+    st.sampled_from([0.0, 1e9, -7.5e5]),
+)
+def test_signed_areas_are_the_shoelace_formula_bit_for_bit(points, seed, offset):
+    """Random pentagons (clockwise, repeated and collinear corners), near and far from 0."""
+    rng = np.random.default_rng(seed)
+    cells = rng.integers(0, len(points), size=(int(rng.integers(0, 30)), 5))
+    _same_bits(np.asarray(points) + offset, cells)
+
+
+def test_signed_areas_over_chunks_of_catalogue_meshes():
+    """Meshes longer than one chunk, curved ones included; Mesh.cell_areas is the same."""
+    for name in ("joined-8", "annulus", "lake-island"):
+        mesh = blockmesh.load_domain(name).mesh(4)
+        assert mesh.n_cells > CHUNK
+        _same_bits(mesh.points, mesh.cells)
+        assert np.array_equal(mesh.cell_areas(), signed_area(mesh.points[mesh.cells]))
+
+
+def test_signed_areas_refuse_other_polygons():
+    with pytest.raises(
+        blockmesh.ArgumentError, match=r"cells of shape \(m, 5\); got shape \(1, 4\)"
+    ):
+        signed_areas(np.zeros((4, 2)), np.array([[0, 1, 2, 3]]))
+
+
+def test_a_clockwise_cell_is_named_by_the_check():
+    """The first cell without positive area, found beyond the first chunk of the check."""
+    mesh = blockmesh.refine(blockmesh.load_domain("sp"), 7)  # 279,936 cells: two chunks
+    cells = mesh.cells.copy()
+    bad = mesh.n_cells - 3
+    cells[bad] = cells[bad, ::-1]
+    with pytest.raises(blockmesh.ArgumentError, match=f"cell {bad} .* is clockwise or has no area"):
+        Mesh(
+            points=mesh.points,
+            cells=cells,
+            block_id=mesh.block_id,
+            parent=mesh.parent,
+            boundary_edges=mesh.boundary_edges,
+            boundary_patch=mesh.boundary_patch,
+            patch_names=mesh.patch_names,
+            region=mesh.region,
+            region_names=mesh.region_names,
+        )
