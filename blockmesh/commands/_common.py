@@ -16,6 +16,7 @@ from ..domain import Domain
 from ..errors import BlockMeshError, DomainFormatError, ExportError
 from ..loading import load_domain, parse_polygon_string
 from ..mesh import Mesh
+from ._progress import StageProgress
 
 __all__ = [
     "ProgressBar",
@@ -94,7 +95,7 @@ def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
             'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
             "(see 'blockmesh catalogue')"
         )
-    return load_target(domain)
+    return load_target(domain, progress=StageProgress.wanted(args))
 
 
 def _one_name(args: argparse.Namespace) -> str | None:
@@ -118,14 +119,19 @@ def is_mesh_file(name: str) -> bool:
     return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())
 
 
-def load_target(name: str) -> Domain | Mesh:
-    """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`."""
+def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
+    """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`.
+
+    With ``progress``, a read that takes over a second shows a line on stderr
+    (``mesh.msh: reading ...  3.0 s``, then ``done in``), as the command's other stages do.
+    """
     if not is_mesh_file(name):
         return load_domain(name)
     from ..io import read
 
     try:
-        return read(name)
+        with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):
+            return read(name)
     except ExportError as error:
         raise ExportError(
             f"{error}. If {name} is a triangle or quadrilateral mesh rather than one blockmesh "

@@ -340,7 +340,7 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     else:
         if len(args.domain or []) != 1:
             raise BlockMeshError("--partitions meshes one domain at a time")
-        target = load_target(args.domain[0])
+        target = load_target(args.domain[0], progress=StageProgress.wanted(args))
     from .. import distributed
     from ..distributed.files import pieces_dir
 
@@ -491,7 +491,7 @@ def run(args: argparse.Namespace) -> int:
     target = (
         inline_polygon(args.polygon, args.hole)
         if args.polygon is not None
-        else load_target(domains[0])
+        else load_target(domains[0], progress=StageProgress.wanted(args))
     )
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     report = _mesh_one(target, options, args.output, progress=progress)

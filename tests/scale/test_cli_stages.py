@@ -125,3 +125,29 @@ def test_partition_options_are_checked_first(capsys, tmp_path, monkeypatch, argv
     code, out, err = run_cli(capsys, "mesh", "sp", "--level", "2", *argv)
     assert code == 2 and message in err and out == ""
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "command", [["check"], ["mesh", "--level", "0"], ["integrate", "--function", "1"]]
+)
+def test_reading_a_mesh_file_shows_a_stage_line(capsys, tmp_path, monkeypatch, command):
+    """A slow read gets its line like the other stages (on a terminal, without --json)."""
+    import time
+
+    import blockmesh.io
+
+    path = tmp_path / "m.npz"
+    blockmesh.write(blockmesh.load_domain("sp").mesh(1), path)
+    real_read = blockmesh.io.read
+
+    def slow_read(*args, **kwargs):
+        time.sleep(0.1)
+        return real_read(*args, **kwargs)
+
+    monkeypatch.setattr(blockmesh.io, "read", slow_read)
+    monkeypatch.setattr(progress_module, "SHOW_AFTER", 0.0)
+    monkeypatch.setattr(progress_module, "_TICK", 0.01)
+    monkeypatch.setattr(StageProgress, "wanted", staticmethod(lambda args: True))
+    code, _, err = run_cli(capsys, command[0], str(path), *command[1:])
+    assert code == 0
+    assert "m.npz: reading ..." in err and "done in" in err
