@@ -226,7 +226,9 @@ def _directed_keys_among(cells: np.ndarray, free: np.ndarray, n_points: int) -> 
         both &= on_free[b]
         if both.any():
             found.append(a[both] * n_points + b[both])
-    return np.sort(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+    keys = np.concatenate(found) if found else np.zeros(0, dtype=np.int64)
+    keys.sort()  # in place: when every node is on the boundary, these are all the slots
+    return keys
 
 
 def check_boundary(cells: np.ndarray, boundary_edges: np.ndarray, n_points: int) -> None:

@@ -79,3 +79,19 @@ def test_check_boundary_gives_the_verdict_of_boundary_slots(name, change, seed):
     expected = _verdict(boundary_slots, cells, neighbour, edges, n)
     assert _verdict(check_boundary, cells, edges, n) == expected
     assert (expected == "ok") == (change == "none")
+
+
+def test_check_boundary_when_every_node_is_on_the_boundary():
+    """Cells that touch nothing (all their sides free): the directions of every slot count."""
+    pentagon = np.array([[0, 0], [2, 0], [3, 1], [1, 3], [-1, 1]], dtype=float)
+    points = np.concatenate([pentagon, pentagon + 10.0])
+    cells = np.array([[0, 1, 2, 3, 4], [5, 6, 7, 8, 9]])
+    edges = np.stack([cells.ravel(), np.roll(cells, -1, axis=1).ravel()], axis=1)
+    check_boundary(cells, edges, 10)
+    assert _verdict(check_boundary, cells, edges, 10) == "ok"
+    broken = edges.copy()
+    broken[7] = broken[7, ::-1]
+    assert _verdict(check_boundary, cells, broken, 10) == "boundary edge 7"
+    assert _verdict(boundary_slots, cells, cell_neighbours(cells, 10), broken, 10) == (
+        "boundary edge 7"
+    )
