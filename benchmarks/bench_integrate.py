@@ -21,14 +21,8 @@ from fractions import Fraction
 import numpy as np
 from scipy import integrate as scipy_integrate
 
-from blockmesh.expr import parse_expression
-from blockmesh.quadrature import (
-    DEFAULT_CHUNK,
-    RULES,
-    integrate,
-    integrate_to_tolerance,
-    rule_info,
-)
+from blockmesh.numerics.expr import parse_expression
+from blockmesh.quadrature import DEFAULT_CHUNK, RULES, integrate, integrate_to_tolerance, rule_info
 from blockmesh.quadrature.kernel import chunks
 from blockmesh.tables import PENTAGONS, paper_case, pentagon_mesh
 

@@ -21,9 +21,13 @@ import tracemalloc
 import numpy as np
 
 import blockmesh
-from blockmesh.catalogue import catalogue_names
-from blockmesh.template import TEMPLATE_CACHE_BYTES, cached_template_bytes, pentagon_template
-from blockmesh.threads import default_threads
+from blockmesh._system.threads import default_threads
+from blockmesh.domain.catalogue import catalogue_names
+from blockmesh.refinement.template import (
+    TEMPLATE_CACHE_BYTES,
+    cached_template_bytes,
+    pentagon_template,
+)
 
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 
