@@ -25,7 +25,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
@@ -35,10 +35,12 @@ from blockmesh.checks import choice, whole_number
 from blockmesh.errors import ArgumentTypeError, ResourceError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
 from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
 from blockmesh.refinement.plan import place_level as _place_level
 from blockmesh.refinement.sizes import MeshSize, predict_size
+from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
 from blockmesh.refinement.template import node_count, pentagon_template
 
 __all__ = ["NUMBERINGS", "refine"]
@@ -46,26 +48,28 @@ __all__ = ["NUMBERINGS", "refine"]
 #: Node numberings :func:`refine` offers.
 NUMBERINGS = ("nested", "rcm")
 
-if TYPE_CHECKING:
-    from blockmesh.domain.domain import Domain
-    from blockmesh.refinement.curved import CurvedBlocks
-
 ProgressCallback = Callable[[int, int], None]
 
 
-# --------------------------------------------------------------------------- refinement
-def _block_mesh_of(target: Domain | Mesh) -> Mesh:
-    from blockmesh.domain.domain import Domain
+class BlockSource(Protocol):
+    """What :func:`refine` refines besides a Mesh: anything with a block mesh (a Domain)."""
 
+    def block_mesh(self) -> Mesh:
+        """The blocks as a level-0 mesh."""
+        ...
+
+
+# --------------------------------------------------------------------------- refinement
+def _block_mesh_of(target: BlockSource | Mesh) -> Mesh:
     if isinstance(target, Mesh):
         return target
-    if isinstance(target, Domain):
+    if callable(getattr(target, "block_mesh", None)):
         return target.block_mesh()
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
 def refine(
-    domain_or_mesh: Domain | Mesh,
+    domain_or_mesh: BlockSource | Mesh,
     level: int,
     *,
     numbering: str = "nested",
@@ -151,8 +155,6 @@ def _build(
     With smoothing, every block is refined at once level by level (the sweeps cross blocks) and
     the curved cells are then recomputed by :func:`~blockmesh.refinement.curved.place_on_curves`.
     """
-    from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
-
     has_curves = base.curves is not None and len(base.curves) > 0
     if smooth:
         mesh = _build_smoothed(base, neighbour, level, smooth, progress)
@@ -172,8 +174,6 @@ def _build(
 
 def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
     """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
-    from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
-
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     edge_ids = edge_id_table(plan)
     ids = group_node_ids(plan, 0, base.n_cells, edge_ids)
