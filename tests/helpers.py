@@ -10,8 +10,12 @@ from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 #: The catalogue domains with curved edges (their refined cells approach the curves, so the
 #: straight-edged invariants, area preserved and nodes on the block edges, do not apply to them).
 CURVED_CATALOGUE = [n for n in catalogue_names() if "[[edges]]" in catalogue_path(n).read_text()]
-#: Every straight-edged catalogue domain name.
-CATALOGUE = [n for n in catalogue_names() if n not in CURVED_CATALOGUE]
+#: Every composite catalogue domain name (several parts, some with circles; tested on their own).
+COMPOSITE_CATALOGUE = [n for n in catalogue_names() if "[[parts]]" in catalogue_path(n).read_text()]
+#: Every straight-edged catalogue domain name of one material.
+CATALOGUE = [
+    n for n in catalogue_names() if n not in CURVED_CATALOGUE and n not in COMPOSITE_CATALOGUE
+]
 #: The paper's symmetric and unsymmetrical pentagons.
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 USP = [(0.0, 0.0), (2.0, 0.0), (3.0, 1.0), (1.0, 3.0), (0.0, 2.0)]
