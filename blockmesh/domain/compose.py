@@ -56,6 +56,7 @@ from blockmesh.domain.interfaces import check_interface_name, default_interface_
 from blockmesh.domain.parts import Outline, Part
 from blockmesh.domain.validate import NEAR_TOL
 from blockmesh.errors import BlockMeshWarning, DomainError, DomainFormatError, fmt_point
+from blockmesh.geometry.topology import graph_components
 
 if TYPE_CHECKING:
     from blockmesh.domain.domain import Domain
@@ -761,6 +762,10 @@ def _build(
                 f"interface {label!r} has the name of a boundary patch; an interface is an "
                 "internal patch (between two regions), so give one of them another name"
             )
+    joined = np.array(
+        [faces for faces in arrangement.edge_faces.values() if len(faces) == 2], dtype=np.int64
+    ).reshape(-1, 2)
+    components, _ = graph_components(len(arrangement.faces), joined[:, 0], joined[:, 1])
     return cls._from_parsed(
         vertices,
         np.array(result.blocks),
@@ -772,6 +777,7 @@ def _build(
         layout="composite",
         edges=edges,
         interfaces=interfaces,
+        components=components,
     )
 
 

@@ -38,7 +38,7 @@ from blockmesh.domain.compose import compose_parts
 from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, resolve_curves
 from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
 from blockmesh.domain.interfaces import resolve_interfaces
-from blockmesh.domain.parts import part_from_table, part_from_value
+from blockmesh.domain.parts import part_from_shapely, part_from_table, part_from_value
 from blockmesh.domain.polygon_edges import hole_list, ring_edge_patches
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
 from blockmesh.domain.validate import (
@@ -117,6 +117,9 @@ class Domain:
     interface_names : tuple of str
         Different from every patch name; a composite domain names the edges between regions
         ``A`` and ``B`` ``"A|B"`` by default.
+    components : int
+        How many separate pieces the blocks form (1 unless a composite domain's parts lie
+        apart); pieces do not touch, not even at a corner.
     """
 
     name: str
@@ -135,6 +138,7 @@ class Domain:
     interface_edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
     interface_patch: np.ndarray = field(default_factory=_no_source)
     interface_names: tuple[str, ...] = ()
+    components: int = 1
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
@@ -142,7 +146,7 @@ class Domain:
         blocks = parse_blocks(self.blocks, vertices.shape[0])
         check_block_shapes(vertices, blocks, repair=False)
         neighbour = _neighbours(blocks, vertices.shape[0])
-        check_topology(vertices, blocks, neighbour)
+        check_topology(vertices, blocks, neighbour, _components(self.components))
         boundary = boundary_loops(blocks, neighbour)
         given = np.asarray(self.boundary_edges, dtype=np.int64).reshape(-1, 2)
         if not np.array_equal(given, boundary):
@@ -230,6 +234,7 @@ class Domain:
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
         interfaces: Mapping[str, Iterable] | None = None,
+        components: int = 1,
     ) -> Domain:
         """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
 
@@ -263,6 +268,9 @@ class Domain:
         interfaces : mapping of name to a list of (a, b) edges, optional
             Internal patches: edges each shared by two blocks (either way round), named as
             interfaces (:mod:`blockmesh.domain.interfaces`); none by default.
+        components : int
+            How many separate pieces the blocks form (default 1: every block is joined to the
+            others through whole edges). Pieces must not touch, not even at a corner.
 
         Examples
         --------
@@ -314,6 +322,7 @@ class Domain:
             block_source=block_source,
             edges=edges,
             interfaces=interfaces,
+            components=components,
         )
 
     @classmethod
@@ -329,6 +338,7 @@ class Domain:
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
         interfaces: Mapping[str, Iterable] | None = None,
+        components: int = 1,
         **text: str,
     ) -> Domain:
         """Check parsed blocks and build the Domain.
@@ -339,7 +349,7 @@ class Domain:
         try:
             block_ids = check_block_shapes(points, block_ids, repair=made_for is None)
             neighbour = _neighbours(block_ids, points.shape[0])
-            check_topology(points, block_ids, neighbour)
+            check_topology(points, block_ids, neighbour, _components(components))
         except (DomainError, TopologyError) as error:
             if made_for is None:
                 raise
@@ -381,6 +391,7 @@ class Domain:
             interface_edges=interface_edges,
             interface_patch=interface_patch,
             interface_names=interface_names,
+            components=components,
         )
 
     @classmethod
@@ -504,13 +515,18 @@ class Domain:
         name: str = "polygon",
         patches: Mapping[str, Iterable[int | str]] | None = None,
         description: str = "",
+        region: str | Iterable[str] | None = None,
     ) -> Domain:
         """A domain from a shapely Polygon (its exterior and its interiors as holes).
 
         Edge numbers for ``patches`` are as in :meth:`from_polygon`, counted along the rings as
-        shapely stores them (the closing point is not a corner). A MultiPolygon is an error: a
-        domain is one connected piece, so mesh each part as its own domain
-        (``[Domain.from_shapely(p) for p in multi.geoms]``).
+        shapely stores them (the closing point is not a corner).
+
+        A MultiPolygon (or a GeometryCollection of polygons) is a composite domain
+        (:meth:`compose`): each of its polygons is a part, of the region ``partK`` (K its
+        place), or of the regions named by ``region`` (one name per polygon), or all of one
+        region when ``region`` is one name. Disjoint pieces are allowed: the mesh then has
+        several connected components (``blockmesh check`` says how many).
 
         Examples
         --------
@@ -519,18 +535,22 @@ class Domain:
         >>> d = Domain.from_shapely(ring, patches={"inner": ["hole 0"]})
         >>> d.patch_names, round(d.area / ring.area, 12)
         (('inner', 'boundary'), 1.0)
+        >>> two = shapely.MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 1)])
+        >>> Domain.from_shapely(two).region_names, Domain.from_shapely(two, region="land").area
+        (('part0', 'part1'), 2.0)
         """
         import shapely
 
-        if isinstance(polygon, shapely.MultiPolygon):
-            raise DomainError(
-                f"a MultiPolygon of {len(polygon.geoms)} parts is not one domain: mesh each part "
-                "as its own domain (for part in multipolygon.geoms: Domain.from_shapely(part)), "
-                "or join them first (shapely.union_all)"
-            )
+        if isinstance(polygon, shapely.MultiPolygon | shapely.GeometryCollection):
+            return _from_pieces(cls, polygon, region, name, patches, description)
         if not isinstance(polygon, shapely.Polygon):
             raise ArgumentTypeError(
-                f"from_shapely takes a shapely Polygon, got {type(polygon).__name__}"
+                f"from_shapely takes a shapely Polygon or MultiPolygon, got "
+                f"{type(polygon).__name__}"
+            )
+        if region is not None:
+            raise DomainError(
+                "region names the regions of a MultiPolygon's pieces; a Polygon is one region"
             )
         if polygon.is_empty:
             raise DomainError("the shapely polygon is empty")
@@ -909,6 +929,13 @@ def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
     return readonly(array, np.int64)
 
 
+def _components(value: object) -> int:
+    """``value`` as a number of pieces (a whole number >= 1), or DomainFormatError."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool) or int(value) < 1:
+        raise DomainFormatError(f"components must be a whole number >= 1, got {value!r}")
+    return int(value)
+
+
 def _whole(value: object) -> bool:
     return isinstance(value, numbers.Integral) and not isinstance(value, bool)
 
@@ -1000,6 +1027,37 @@ def _mapped_pairs(patches: Any, mapping: np.ndarray, n: int) -> Any:
     return mapped_patches
 
 
+def _from_pieces(
+    cls: type[Domain],
+    multi: Any,
+    region: str | Iterable[str] | None,
+    name: str,
+    patches: Mapping[str, Iterable[int | str]] | None,
+    description: str,
+) -> Domain:
+    """The composite domain of a MultiPolygon's pieces (see :meth:`Domain.from_shapely`)."""
+    pieces = list(multi.geoms)
+    if patches:
+        raise DomainError(
+            "patches of a MultiPolygon's pieces: use Domain.compose with one part per piece "
+            "(patches={region: {patch: [edges]}})"
+        )
+    if isinstance(region, str):
+        parts = [part_from_shapely(region, multi, f"part 0 ({region!r})")]
+    else:
+        names = [f"part{k}" for k in range(len(pieces))] if region is None else list(region)
+        if len(names) != len(pieces):
+            raise DomainError(
+                f"region gives {len(names)} names for the {len(pieces)} pieces of the "
+                "MultiPolygon; give one name per piece (or one name for all)"
+            )
+        parts = [
+            part_from_value(cls, label, piece, k)
+            for k, (label, piece) in enumerate(zip(names, pieces, strict=True))
+        ]
+    return compose_parts(cls, parts, name=name, description=description)
+
+
 def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
     name = raw.get("name", "domain")
     description = raw.get("description", "")
@@ -1043,6 +1101,7 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
             block_source=_source_list(raw.get("block_source")),
             edges=raw.get("edges"),
             interfaces=raw.get("interfaces"),
+            components=raw.get("components", 1),
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None

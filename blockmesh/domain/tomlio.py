@@ -108,6 +108,7 @@ ALLOWED_KEYS = {
     "through|center",
     "circles": 'circular holes of a polygon: [{center = [x, y], radius = r, patch = "name"}]',
     "circle": 'a whole disc instead of a polygon: {center = [x, y], radius = r, patch = "name"}',
+    "components": "with blocks: how many separate pieces they form (default 1)",
     "parts": "a composite domain: [[parts]] tables, each region = name with polygon, holes, "
     "arcs, circles and patches; a later part is cut out of the earlier ones",
     "interfaces": 'with parts, a table "A|B" = name (renames the interface between regions A '
@@ -325,7 +326,7 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
             f"{source}: 'holes' belong to a 'polygon'; with explicit blocks, leave the holes' "
             "area without blocks"
         )
-    for key in ("boundary_source", "block_source"):
+    for key in ("boundary_source", "block_source", "components"):
         if key in raw and not has_blocks:
             raise DomainFormatError(
                 f"{source}: {key!r} belongs to explicit blocks (blockmesh writes it with them)"
@@ -510,6 +511,8 @@ def dumps_domain(domain) -> str:
         lines.append("]")
     if np.any(domain.block_source >= 0):
         lines.append(f"block_source = [{', '.join(str(int(k)) for k in domain.block_source)}]")
+    if domain.components > 1:
+        lines.append(f"components = {int(domain.components)}")
     lines.append("")
     lines.append("[patches]")
     for name, edges in domain.patches.items():

@@ -683,7 +683,9 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
 
 
 # --------------------------------------------------------------------------- topology
-def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarray) -> None:
+def check_topology(
+    vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarray, components: int = 1
+) -> None:
     """Check that blocks meet edge to edge: no overlaps, gaps, hanging nodes, loose blocks.
 
     ``neighbour`` is :func:`blockmesh.geometry.topology.cell_neighbours` of the blocks (computed by
@@ -695,6 +697,9 @@ def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarr
     shared corners (else a hanging node or an overlap) and the corners around every inner vertex
     add up to one full turn. Separate boundary loops closer than :data:`NEAR_TOL` times the
     domain's size are reported as a gap. O(B log B), in the domain's local frame.
+
+    ``components`` is how many separate pieces the blocks are meant to form (a composite domain
+    of disjoint parts has several); pieces must not touch, not even at a corner.
     """
     frame = local_frame(vertices)
     local = frame.to_local(vertices)
@@ -704,7 +709,7 @@ def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarr
     stop = np.roll(blocks, -1, axis=1).ravel()[slot]
     _check_contacts(vertices, local, blocks, slot, start, stop, _same_point_tol(frame))
     _check_gaps(vertices, local, slot, start, stop, frame)
-    _check_connected(neighbour)
+    _check_connected(neighbour, blocks, components)
     _check_full_turns(vertices, local, blocks, start, stop)
 
 
@@ -848,10 +853,17 @@ def _loop_labels(start: np.ndarray, stop: np.ndarray, n_points: int) -> np.ndarr
     return label[start]
 
 
-def _check_connected(neighbour: np.ndarray) -> None:
+def _check_connected(neighbour: np.ndarray, blocks: np.ndarray, components: int = 1) -> None:
     count, label = connected_pieces(neighbour)
-    if count == 1:
+    if count == components and count > 1:
+        _check_pieces_apart(blocks, label)
+    if count == components:
         return
+    if components > 1:
+        raise TopologyError(
+            f"the blocks form {count} separate pieces, but {components} are stated (components "
+            f"= {components}); state the number of pieces the blocks form"
+        )
     groups = [np.flatnonzero(label == k) for k in range(count)]
     groups.sort(key=len, reverse=True)
     listed = "; ".join(
@@ -863,6 +875,22 @@ def _check_connected(neighbour: np.ndarray) -> None:
         f"edge with another: connect block{'s' if ',' in loose else ''} {loose} to the rest "
         "(touching at a corner is not enough)"
     )
+
+
+def _check_pieces_apart(blocks: np.ndarray, label: np.ndarray) -> None:
+    """Separate pieces share no vertex (touching at a corner would pinch the domain)."""
+    pieces = np.repeat(label, blocks.shape[1])
+    vertex, first = np.unique(blocks.ravel(), return_index=True)
+    owner = np.empty(int(blocks.max()) + 1, dtype=np.int64)
+    owner[vertex] = pieces[first]
+    shared = blocks.ravel()[owner[blocks.ravel()] != pieces]
+    if shared.size:
+        v = int(shared[0])
+        touching = sorted({int(p) for p in pieces[blocks.ravel() == v]})
+        raise TopologyError(
+            f"pieces {touching[0]} and {touching[1]} of the blocks touch at vertex {v} only "
+            "(touching at a corner is not enough): join them along an edge or move them apart"
+        )
 
 
 def _check_full_turns(
