@@ -12,6 +12,9 @@ Variables (every index and id 1-based, as MATLAB counts):
 ``Region``       M x 1, index into ``RegionNames``
 ``Parent``       M x 1, the cell's parent at the previous level (0 at level 0)
 ``PatchNames``   1 x P cell array of char; ``RegionNames`` likewise
+``InterfaceEdges`` struct, one field per interface of a composite domain: E x 2 node ids, the
+                 interface's first region on the left of each edge (only with interfaces)
+``InterfaceNames`` 1 x I cell array of char (only with interfaces)
 ``Level``        the refinement level; ``Name`` the mesh name
 ================ ============================================================================
 
@@ -44,7 +47,7 @@ from __future__ import annotations
 import zlib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -125,6 +128,14 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
         "Level": float(mesh.level),
         "Name": mesh.name,
     }
+    if mesh.interface_names:
+        variables["InterfaceEdges"] = {
+            field: (mesh.interface_edges[mesh.interface_patch == k] + 1.0).reshape(-1, 2)
+            for k, field in enumerate(MATLAB_NAME.unique(mesh.interface_names))
+        }
+        variables["InterfaceNames"] = np.array(list(mesh.interface_names), dtype=object).reshape(
+            1, -1
+        )
     element = _cell_array_bytes("Element", (mesh.cells + 1).astype(np.float64))
     if compression == "zlib":
         packed = zlib.compress(element, 1)
@@ -139,7 +150,8 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
 
 #: The variables :func:`write_mat` writes.
 _VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "Region", "Parent",
-              "PatchNames", "RegionNames", "Level", "Name")  # fmt: skip
+              "PatchNames", "RegionNames", "Level", "Name", "InterfaceEdges",
+              "InterfaceNames")  # fmt: skip
 
 
 def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> Iterator[bytes]:
@@ -303,6 +315,7 @@ def read_mat(path: Path) -> Mesh:
         parts = [np.asarray(struct[0, 0][f], dtype=np.float64).reshape(-1, 2) for f in fields]
         edges = (np.concatenate(parts) if parts else np.empty((0, 2))).astype(np.int64) - 1
         patch = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
+    interfaces = _interfaces(data, where)
     level = int(np.asarray(data["Level"]).ravel()[0]) if "Level" in data else 0
     name = _strings(data["Name"])[0] if "Name" in data and data["Name"].size else ""
     return mesh_from_arrays(
@@ -318,7 +331,28 @@ def read_mat(path: Path) -> Mesh:
         patch_names=patch_names,
         level=level,
         name=name,
+        **interfaces,
     )
+
+
+def _interfaces(data: dict, where: str) -> dict[str, Any]:
+    """The interface arguments of the Mesh from ``InterfaceEdges`` and ``InterfaceNames``."""
+    if "InterfaceEdges" not in data or "InterfaceNames" not in data:
+        return {}
+    names = _strings(data["InterfaceNames"])
+    struct = data["InterfaceEdges"]
+    fields = struct.dtype.names or ()
+    if len(fields) != len(names):
+        raise ExportError(
+            f"{where}: InterfaceEdges has {len(fields)} fields for {len(names)} InterfaceNames"
+        )
+    parts = [np.asarray(struct[0, 0][f], dtype=np.float64).reshape(-1, 2) for f in fields]
+    edges = (np.concatenate(parts) if parts else np.empty((0, 2))).astype(np.int64) - 1
+    return {
+        "interface_edges": edges,
+        "interface_patch": np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts]),
+        "interface_names": names,
+    }
 
 
 FORMAT = Format(

@@ -339,7 +339,12 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         n_internal = _list_size(r)
     with foam_file(poly, "points") as (r, _):
         n_points, points = read_list(r, 3, np.float64)
-    faces = read_faces(poly, [(s, n, size) for s, n, size, _ in spans])
+    face_zones = _read_face_zones(poly, n_internal)
+    ranges = [(s, n, size) for s, n, size, _ in spans]
+    if face_zones is not None and n_internal:
+        ranges = [(0, n_internal, 4), *ranges]
+    faces = read_faces(poly, ranges)
+    internal = faces.pop(0) if face_zones is not None and n_internal else None
     face_of = {k: f for (_, _, _, k), f in zip(spans, faces, strict=True)}
     found = {"nPoints": n_points, "nFaces": n_faces, "nInternalFaces": n_internal}
     wrong = {k: (note[k], v) for k, v in found.items() if k in note and note[k] != v}
@@ -421,6 +426,25 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     boundary_edges = np.concatenate(edges) if edges else np.empty((0, 2), np.int64)
     if new_id is not None:
         boundary_edges = new_id[boundary_edges]
+    interfaces: dict[str, Any] = {}
+    if face_zones is not None and internal is not None:
+        labels, flip, zone, zone_names = face_zones
+        quad = internal[labels]
+        low = on_bottom[quad]
+        pair = low & np.roll(low, -1, axis=1)
+        if np.any(pair.sum(axis=1) != 1):
+            raise ExportError(f"{where}: a face zone has faces that are not one-layer sides")
+        i = np.argmax(pair, axis=1)
+        rows_ = np.arange(quad.shape[0])
+        inner = np.stack([quad[rows_, i], quad[rows_, (i + 1) % 4]], axis=1)
+        inner[flip] = inner[flip][:, ::-1]
+        if new_id is not None:
+            inner = new_id[inner]
+        interfaces = {
+            "interface_edges": inner,
+            "interface_patch": zone,
+            "interface_names": zone_names,
+        }
     zones = _read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
@@ -432,5 +456,67 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         "boundary_edges": boundary_edges,
         "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
         "patch_names": names,
+        **interfaces,
         "name": case.name,
     }
+
+
+def _read_face_zones(
+    poly: Path, n_internal: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]] | None:
+    """The internal faces of every face zone: labels, flips, zone index, zone names (or None)."""
+    if not ((poly / "faceZones").exists() or (poly / "faceZones.gz").exists()):
+        return None
+    labels: list[np.ndarray] = []
+    flips: list[np.ndarray] = []
+    names: list[str] = []
+    with foam_file(poly, "faceZones") as (r, _):
+        n_zones = _list_size(r)
+        if _significant(r) != b"(":
+            raise ExportError(f"{r.where}: expected ( after the number of zones")
+        for _ in range(n_zones):
+            name = _significant(r).decode(errors="replace")
+            if _significant(r) != b"{":
+                raise ExportError(f"{r.where}, line {r.line_number}: expected {{ after zone {name}")
+            found: dict[str, np.ndarray] = {}
+            while True:
+                line = _significant(r)
+                if line.startswith(b"}"):
+                    break
+                match = re.match(rb"(faceLabels|flipMap)\s+List<(?:label|bool)>\s*(.*)$", line)
+                if match is not None:
+                    found[match[1].decode()] = _zone_list(r, match[2].strip())
+            face = found.get("faceLabels")
+            if face is None:
+                raise ExportError(f"{r.where}: face zone {name} has no faceLabels")
+            if face.size and (face.min() < 0 or face.max() >= n_internal):
+                raise ExportError(
+                    f"{r.where}: face zone {name} names faces outside the internal faces "
+                    f"0..{n_internal - 1} (blockmesh reads zones of internal faces: interfaces)"
+                )
+            flip = found.get("flipMap", np.zeros(face.size, dtype=np.int64))
+            if flip.size != face.size:
+                raise ExportError(f"{r.where}: face zone {name}'s flipMap has another length")
+            labels.append(face)
+            flips.append(flip != 0)
+            names.append(name)
+    if not names:
+        return None
+    zone = np.repeat(np.arange(len(names)), [f.size for f in labels])
+    return np.concatenate(labels), np.concatenate(flips), zone, names
+
+
+def _zone_list(r: TextReader, rest: bytes) -> np.ndarray:
+    """The values of a zone's list whose first line (after ``List<...>``) is ``rest``."""
+    where = f"{r.where}, line {r.line_number}"
+    for pattern in (_INLINE, _UNIFORM):
+        inner = pattern.match(rest)
+        if inner:
+            values = parse_numbers(inner[2], np.int64, where)
+            return values if pattern is _INLINE else np.repeat(values, int(inner[1]))
+    count = int(rest) if rest.isdigit() else _list_size(r)
+    if _significant(r) != b"(":
+        raise ExportError(f"{where}: expected (")
+    values = r.table(count, 1, np.int64).ravel()
+    _significant(r)  # the closing ")" (or ");")
+    return values

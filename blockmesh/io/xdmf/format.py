@@ -3,17 +3,19 @@
 meshio cannot write polygons to XDMF, so the heavy data goes straight to HDF5 with h5py and the
 light XML is written with :mod:`xml.etree`. The XDMF file holds one uniform grid, like the VTU:
 a ``Mixed`` topology of the pentagons (``Polygon`` of 5 nodes) followed by the boundary edges
-(``Polyline`` of 2), ``Geometry XY``, the cell attributes ``block_id``, ``region``, ``parent`` and
-``patch`` (-1 where they do not apply), the name lookups ``patch:NAME`` and ``region:NAME`` as
-grid attributes (ParaView shows them as field data: the index each name has), and an
-``Information`` element ``blockmesh`` with the JSON metadata. The ``.h5`` file holds
+and then the interface edges of a composite domain (``Polyline`` of 2), ``Geometry XY``, the cell
+attributes ``block_id``, ``region``, ``parent``, ``patch`` and, with interfaces, ``interface``
+(-1 where they do not apply), the name lookups ``patch:NAME``, ``region:NAME`` and
+``interface:NAME`` as grid attributes (ParaView shows them as field data: the index each name
+has), and an ``Information`` element ``blockmesh`` with the JSON metadata. The ``.h5`` file holds
 
 ============================ ============== ===============================================
 ``/mesh/points``             (N, 2) f8      node coordinates
 ``/mesh/topology``           (7M + 4Eb,) i8 per pentagon ``3 5 v0 .. v4``, per boundary edge
                                             ``2 2 a b`` (XDMF's mixed layout)
-``/mesh/block_id``, ``/mesh/region``, ``/mesh/parent``, ``/mesh/patch``
-                             (M + Eb,) i8   cell data, -1 where it does not apply
+``/mesh/block_id``, ``/mesh/region``, ``/mesh/parent``, ``/mesh/patch``, ``/mesh/interface``
+                             (M + Eb,) i8   cell data, -1 where it does not apply (Eb counts
+                                            the interface lines too)
 ============================ ============== ===============================================
 
 and the root attribute ``blockmesh`` (the same JSON). The cells, in h5py:
@@ -71,8 +73,10 @@ from blockmesh.io.common import (
     Format,
     decode_metadata,
     encode_metadata,
+    line_arrays,
     mesh_from_arrays,
     name_lookup,
+    split_lines,
 )
 from blockmesh.io.text import parse_numbers
 from blockmesh.mesh.mesh import Mesh
@@ -96,7 +100,7 @@ def _data_item(parent: ET.Element, source: str, shape: tuple[int, ...], kind: st
 
 
 def _xdmf_tree(mesh: Mesh, h5name: str, meta: str) -> ET.ElementTree:
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0] + mesh.interface_edges.shape[0]
     root = ET.Element("Xdmf", Version="3.0")
     domain = ET.SubElement(root, "Domain")
     grid = ET.SubElement(domain, "Grid", Name=mesh.name or "mesh", GridType="Uniform")
@@ -104,10 +108,15 @@ def _xdmf_tree(mesh: Mesh, h5name: str, meta: str) -> ET.ElementTree:
     _data_item(top, f"{h5name}:/mesh/topology", (7 * m + 4 * eb,), "Int")
     geo = ET.SubElement(grid, "Geometry", GeometryType="XY")
     _data_item(geo, f"{h5name}:/mesh/points", mesh.points.shape, "Float")
-    for name in _CELL_DATA:
+    for name in _CELL_DATA + (("interface",) if mesh.interface_names else ()):
         att = ET.SubElement(grid, "Attribute", Name=name, AttributeType="Scalar", Center="Cell")
         _data_item(att, f"{h5name}:/mesh/{name}", (m + eb,), "Int")
-    for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names)):
+    kinds = (
+        ("patch", mesh.patch_names),
+        ("region", mesh.region_names),
+        ("interface", mesh.interface_names),
+    )
+    for kind, names in kinds:
         for label, index in name_lookup(kind, names).items():
             att = ET.SubElement(
                 grid, "Attribute", Name=label, AttributeType="Scalar", Center="Grid"
@@ -173,7 +182,9 @@ def write_xdmf(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
     path = Path(path).absolute()
     if path.suffix.lower() == ".h5":
         raise ExportError(f"cannot write {path}: the XDMF file needs a name not ending in .h5")
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m = mesh.n_cells
+    edges, patch, interface = line_arrays(mesh)
+    eb = edges.shape[0]
     options: dict[str, Any] = (
         {"compression": "gzip", "compression_opts": 4, "shuffle": True}
         if compression == "zlib"
@@ -193,13 +204,13 @@ def write_xdmf(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
             del poly
             if eb:
                 line = np.empty((eb, 4), dtype=np.int64)
-                line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, mesh.boundary_edges
+                line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, edges
                 top[7 * m :] = line.ravel()
             for name in ("block_id", "region", "parent"):
                 g.create_dataset(name, data=_padded(getattr(mesh, name), m, eb), **options)
-            g.create_dataset(
-                "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
-            )
+            g.create_dataset("patch", data=_padded(patch, m, eb, lines=True), **options)
+            if mesh.interface_names:
+                g.create_dataset("interface", data=_padded(interface, m, eb, lines=True), **options)
         tree = _xdmf_tree(mesh, h5.name, meta)
         with open(tmp_xdmf, "wb") as f:
             f.write(
@@ -347,7 +358,7 @@ def read_xdmf(path: Path) -> Mesh:
         points = item(cells_grid.find("Geometry"), "the geometry")
         top_el = cells_grid.find("Topology")
         assert top_el is not None
-        edges = patch = None
+        edges = patch = interface = None
         block_id, parent, region = (
             attribute(cells_grid, a) for a in ("block_id", "parent", "region")
         )
@@ -360,6 +371,8 @@ def read_xdmf(path: Path) -> Mesh:
             )
             patch = attribute(cells_grid, "patch")
             patch = None if patch is None else patch[m:].copy()
+            interface = attribute(cells_grid, "interface")
+            interface = None if interface is None else interface[m:].copy()
         else:
             cells = item(top_el, "the polygons").reshape(-1, 5)
             if lines_grid is not None:
@@ -375,9 +388,9 @@ def read_xdmf(path: Path) -> Mesh:
             parent=parent,
             region=region,
             region_names=meta.get("region_names"),
-            boundary_edges=edges,
-            boundary_patch=patch,
+            **split_lines(edges, patch, interface),
             patch_names=meta.get("patch_names") or (("boundary",) if edges is not None else None),
+            interface_names=meta.get("interface_names"),
             level=meta.get("level", 0),
             name=meta.get("name", ""),
         )
