@@ -3,8 +3,9 @@
 The paper's refinement degrades with level (the worst angle shrinks by about a quarter per level)
 and :mod:`blockmesh.refinement.smoothing` cannot move the nodes on block edges.
 :func:`optimize_nodes` moves every node that is not on the domain boundary, block-edge nodes
-included, and lets boundary nodes slide along their own straight boundary line; domain corners and
-the nodes where the patch changes stay where they are. Topology, counts, patches and regions are
+included, and lets boundary nodes slide along their own straight boundary line (interface nodes
+of a composite domain along their straight interface); domain corners, the nodes where the patch
+changes and the nodes on curves stay where they are. Topology, counts, patches and regions are
 unchanged, and every cell stays strictly convex.
 
 It minimises a shape energy, the sum over all cell corners of the corner's distortion from the
@@ -196,6 +197,49 @@ def _boundary_freedom(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     same_patch = mesh.boundary_patch[incoming[nodes]] == mesh.boundary_patch[outgoing[nodes]]
     slides = straight & same_patch
     direction = t_out[slides] / np.hypot(*t_out[slides].T)[:, None]
+    if mesh.interface_edges.shape[0] == 0:
+        return nodes[slides], direction, nodes[~slides]
+    # Where an interface reaches the boundary the node stays (it is a corner of both regions).
+    meets = np.isin(nodes, mesh.interface_edges)
+    direction = direction[~meets[slides]]
+    slides &= ~meets
+    inner, inner_direction, inner_fixed = _interface_freedom(mesh, nodes)
+    return (
+        np.concatenate([nodes[slides], inner]),
+        np.concatenate([direction, inner_direction]),
+        np.concatenate([nodes[~slides], inner_fixed]),
+    )
+
+
+def _interface_freedom(
+    mesh: Mesh, boundary_nodes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Interface nodes that slide along their straight interface, and the fixed ones.
+
+    A node inside a straight run of one interface slides along it; where an interface turns
+    (a chord of a curve), changes name, meets another or reaches the boundary, the node stays.
+    """
+    edges = mesh.interface_edges
+    ends = np.concatenate([edges, edges[:, ::-1]])
+    group = np.concatenate([mesh.interface_patch, mesh.interface_patch])
+    order = np.argsort(ends[:, 0], kind="stable")
+    ends, group = ends[order], group[order]
+    nodes, start, count = np.unique(ends[:, 0], return_index=True, return_counts=True)
+    two = count == 2
+    first, second = start[two], start[two] + 1
+    pts = mesh.points
+    t_in = pts[nodes[two]] - pts[ends[first, 1]]
+    t_out = pts[ends[second, 1]] - pts[nodes[two]]
+    cross = t_in[:, 0] * t_out[:, 1] - t_in[:, 1] * t_out[:, 0]
+    norms = np.hypot(*t_in.T) * np.hypot(*t_out.T)
+    slides = np.zeros(nodes.size, dtype=bool)
+    slides[two] = (
+        (np.abs(cross) <= COLLINEAR_SIN_TOL * norms)
+        & (group[first] == group[second])
+        & ~np.isin(nodes[two], boundary_nodes)
+    )
+    chosen = slides[two]
+    direction = t_out[chosen] / np.hypot(*t_out[chosen].T)[:, None]
     return nodes[slides], direction, nodes[~slides]
 
 
