@@ -77,6 +77,23 @@ def _draw_patches(ax, points, edges, patch, names, curves=None) -> None:
             ax.add_collection(LineCollection(segments, colors=colour, linewidths=2.5, label=name))
 
 
+def _draw_interfaces(ax, points, edges, curves=None) -> None:
+    """The interfaces of a composite domain: dark lines, one legend entry."""
+    from matplotlib.collections import LineCollection
+
+    if len(edges) == 0:
+        return
+    segments = points[edges] if not curves else [_edge_path(points, a, b, curves) for a, b in edges]
+    ax.add_collection(LineCollection(segments, colors="k", linewidths=1.8, label="interfaces"))
+
+
+def _fitting_labels(areas: np.ndarray, extent: float, size: float) -> list[int]:
+    """The items whose number, ``size`` points high, fits inside them on a 7-inch figure."""
+    height = size / 72 * extent / 5.5  # the text's height in data units (axes about 5.5 inches)
+    digits = np.floor(np.log10(np.maximum(np.arange(len(areas)), 1))) + 1
+    return np.flatnonzero(np.sqrt(np.abs(areas)) > 0.7 * height * digits + height).tolist()
+
+
 def _bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Lowest and highest x and y (column by column: ``min(axis=0)`` on (N, 2) is far slower)."""
     lo = np.array([points[:, 0].min(initial=np.inf), points[:, 1].min(initial=np.inf)])
@@ -122,7 +139,9 @@ def _block_outlines(domain) -> list[np.ndarray]:
 def plot_domain(domain, path: str | Path) -> Path:
     """Draw the blocks (numbered), vertices (numbered) and patches (coloured, with a legend).
 
-    Regions are shaded. Returns the path written.
+    Regions are shaded and interfaces drawn dark. A block is numbered only where its number fits
+    inside it (at 2,000 blocks most numbers would overlap), vertices only up to 150 of them.
+    Returns the path written.
     """
     from matplotlib.collections import PolyCollection
 
@@ -142,9 +161,13 @@ def plot_domain(domain, path: str | Path) -> Path:
         domain.patch_names,
         domain.curves,
     )
+    _draw_interfaces(ax, domain.vertices, domain.interface_edges, domain.curves)
     centres = xy.mean(axis=1)
     size = 11 if domain.n_blocks <= 30 else 7
-    for b, (x, y) in enumerate(centres):
+    lo, hi = _bounds(domain.vertices)
+    extent = float(np.max(hi - lo)) or 1.0
+    for b in _fitting_labels(signed_area(xy), extent, size):
+        x, y = centres[b]
         ax.text(x, y, str(b), ha="center", va="center", fontsize=size, weight="bold", color="0.2")
     ax.plot(domain.vertices[:, 0], domain.vertices[:, 1], "o", ms=3, color="k")
     if domain.n_vertices <= 150:
@@ -173,7 +196,9 @@ def plot_domain(domain, path: str | Path) -> Path:
 def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     """Draw the cells (shaded by block), the patches, and numbers when few enough to read.
 
-    ``labels=None`` numbers nodes (blue) and cells (black) when there are at most
+    A mesh of several regions is shaded by region instead, with a legend of their names, and
+    its interfaces drawn dark. ``labels=None`` numbers nodes (blue) and cells (black) when there
+    are at most
     ``LABEL_LIMIT`` cells. A mesh of more than ``DRAW_LIMIT`` cells is drawn as its cell density
     (cells per unit area, a colour picture of ``DENSITY_PIXELS`` across) with the block outlines
     and the patches, and the title says so; that takes about a second per few million cells.
@@ -186,11 +211,16 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     fig, ax = plt.subplots(figsize=(8, 8))
     xy = mesh.points[mesh.cells]
     n_blocks = int(mesh.block_id.max()) + 1 if mesh.n_cells else 1
-    palette = plt.get_cmap("Pastel1" if n_blocks <= 9 else "tab20")
-    faces = palette((mesh.block_id % palette.N) / max(palette.N - 1, 1))
+    regions = len(mesh.region_names) > 1
+    palette = plt.get_cmap("Pastel1" if n_blocks <= 9 or regions else "tab20")
+    shade_by = mesh.region if regions else mesh.block_id
+    faces = palette((shade_by % palette.N) / max(palette.N - 1, 1))
     width = 0.8 if mesh.n_cells <= 5000 else 0.3 if mesh.n_cells <= 50000 else 0.1
     ax.add_collection(PolyCollection(xy, facecolors=faces, edgecolors="0.25", linewidths=width))
     _draw_patches(ax, mesh.points, mesh.boundary_edges, mesh.boundary_patch, mesh.patch_names)
+    _draw_interfaces(ax, mesh.points, mesh.interface_edges)
+    if regions:
+        _region_legend(fig, palette, mesh.region_names)
     if labels is None:
         labels = mesh.n_cells <= LABEL_LIMIT
     if labels:
@@ -207,6 +237,16 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
         f"{mesh.n_points:,} nodes",
     )
     return save_figure(fig, path)
+
+
+def _region_legend(fig, palette, names) -> None:
+    from matplotlib.patches import Patch
+
+    handles = [
+        Patch(facecolor=palette((k % palette.N) / max(palette.N - 1, 1)), edgecolor="0.25", label=n)
+        for k, n in enumerate(names)
+    ]
+    fig.legend(handles=handles, title="regions", loc="lower left", bbox_to_anchor=(0.91, 0.1))
 
 
 def _block_interfaces(mesh) -> np.ndarray:
@@ -310,6 +350,7 @@ def _plot_density(mesh, path: str | Path) -> Path:
         outline = mesh.points[_block_interfaces(mesh)]
         ax.add_collection(LineCollection(outline, colors="w", linewidths=0.8))
     _draw_patches(ax, mesh.points, mesh.boundary_edges, mesh.boundary_patch, mesh.patch_names)
+    _draw_interfaces(ax, mesh.points, mesh.interface_edges)
     ax.legend(title="patches", loc="upper left", bbox_to_anchor=(1.25, 1.0), fontsize=8)
     _frame(
         ax,
