@@ -4,7 +4,13 @@
 ``--reaction``); ``--equation elasticity`` plane linear elasticity (``--young``,
 ``--poisson-ratio``, ``--plane``; vector data as ``"EXPR_X, EXPR_Y"``). ``--dirichlet PATCH=EXPR``
 prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` the outward flux
-(the traction); other patches are natural (zero flux, traction-free).
+(the traction); other patches are natural (zero flux, traction-free). ``--dirichlet "*=EXPR"``
+prescribes it on every boundary patch no other condition names.
+
+On a composite domain the coefficients and the source may differ by region: ``--diffusion
+fibre=10 --diffusion matrix=1`` (likewise ``--reaction``, ``--young``, ``--poisson-ratio``,
+``--source``); a bare value means every region not named. Across an interface u and the flux are
+continuous (the natural conditions); a condition on an interface is refused.
 """
 
 from __future__ import annotations
@@ -60,15 +66,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
         "--source",
-        metavar="EXPR",
-        help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0)",
+        action="append",
+        default=[],
+        metavar="[REGION=]EXPR",
+        help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0); "
+        "REGION=... for one region (repeatable)",
     )
     parser.add_argument(
         "--dirichlet",
         action="append",
         default=[],
         metavar="PATCH=EXPR",
-        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be 'free'",
+        help="the solution on PATCH (repeatable; PATCH '*': every boundary patch not otherwise "
+        "given); elasticity: 'UX, UY', a component may be 'free'",
     )
     parser.add_argument(
         "--neumann",
@@ -80,12 +90,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--exact", metavar="EXPR", help="exact solution ('UX, UY' for elasticity): report errors"
     )
-    parser.add_argument("--diffusion", default="1", metavar="EXPR", help="kappa(x, y) (1)")
-    parser.add_argument("--reaction", default="0", metavar="EXPR", help="c(x, y) (0)")
-    parser.add_argument("--young", type=float, default=1.0, metavar="E", help="elasticity: E (1)")
-    parser.add_argument(
-        "--poisson-ratio", type=float, default=0.3, metavar="NU", help="elasticity: nu (0.3)"
-    )
+    for flag, metavar, text in (
+        ("--diffusion", "[REGION=]EXPR", "kappa(x, y) (1)"),
+        ("--reaction", "[REGION=]EXPR", "c(x, y) (0)"),
+        ("--young", "[REGION=]E", "elasticity: E (1)"),
+        ("--poisson-ratio", "[REGION=]NU", "elasticity: nu (0.3)"),
+    ):
+        parser.add_argument(
+            flag,
+            action="append",
+            default=[],
+            metavar=metavar,
+            help=f"{text}; REGION=... for one region of a composite domain (repeatable)",
+        )
     parser.add_argument(
         "--plane", choices=("stress", "strain"), default="stress", help="elasticity: the model"
     )
@@ -141,6 +158,73 @@ def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str
     return values
 
 
+#: The value of a per-region option given for no region (and never given).
+_DEFAULTS = {"--diffusion": "1", "--reaction": "0", "--young": "1", "--poisson-ratio": "0.3"}
+_REGION_ITEM = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.\-]*)\s*=(.*)$")
+
+
+def region_option(items: list[str], flag: str, default: str | None) -> Any:
+    """A per-region option's value: one text, or a mapping region -> text (``"*"``: the rest).
+
+    ``NAME=VALUE`` gives one region's value, a bare ``VALUE`` every region not named.
+
+    Examples
+    --------
+    >>> region_option(["fibre=10", "1"], "--diffusion", "1")
+    {'fibre': '10', '*': '1'}
+    >>> region_option([], "--diffusion", "1")
+    '1'
+    """
+    bare: str | None = None
+    named: dict[str, str] = {}
+    for item in items:
+        match = _REGION_ITEM.match(item)
+        if match is None:
+            if bare is not None:
+                raise BlockMeshError(
+                    f"{flag} is given twice for every region ({bare!r} and {item!r}); give one "
+                    f"value, and REGION=VALUE for the regions that differ"
+                )
+            bare = item.strip()
+            continue
+        region, value = match.group(1), match.group(2).strip()
+        if not value:
+            raise BlockMeshError(f"{flag} {item!r}: write REGION=VALUE, e.g. {flag} fibre=10")
+        if region in named:
+            raise BlockMeshError(f"{flag} gives the region {region!r} twice; give it once")
+        named[region] = value
+    if not named:
+        return bare if bare is not None else default
+    if bare is not None or default is not None:
+        named["*"] = bare if bare is not None else default  # type: ignore[assignment]
+    return named
+
+
+def _numbers(value: Any, flag: str) -> Any:
+    """A per-region option's texts as numbers (``--young``, ``--poisson-ratio``)."""
+
+    def number(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            raise BlockMeshError(f"{flag} takes numbers, got {text!r}") from None
+
+    if isinstance(value, dict):
+        return {region: number(text) for region, text in value.items()}
+    return number(value)
+
+
+def _every_patch(dirichlet: dict[str, str], neumann: dict[str, str], patches) -> dict[str, str]:
+    """``--dirichlet "*=EXPR"``: EXPR on every boundary patch no other condition names."""
+    if "*" not in dirichlet:
+        return dirichlet
+    rest = dirichlet.pop("*")
+    for patch in patches:
+        if patch not in dirichlet and patch not in neumann:
+            dirichlet[patch] = rest
+    return dirichlet
+
+
 def _check(args: argparse.Namespace) -> None:
     if args.level < 0:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
@@ -164,6 +248,7 @@ def _check(args: argparse.Namespace) -> None:
 
 
 def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
+    source = region_option(args.source, "--source", None)
     common: dict[str, Any] = {
         "order": args.order,
         "stabilization_scale": args.stabilization_scale,
@@ -175,19 +260,21 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
     if args.equation == "poisson":
         return solve_poisson(
             mesh,
-            args.source or "0",
-            diffusion=args.diffusion,
-            reaction=args.reaction,
+            source if source is not None else "0",
+            diffusion=region_option(args.diffusion, "--diffusion", _DEFAULTS["--diffusion"]),
+            reaction=region_option(args.reaction, "--reaction", _DEFAULTS["--reaction"]),
             dirichlet=dirichlet,
             neumann=neumann,
             **common,
         )
+    young = region_option(args.young, "--young", _DEFAULTS["--young"])
+    ratio = region_option(args.poisson_ratio, "--poisson-ratio", _DEFAULTS["--poisson-ratio"])
     return solve_elasticity(
         mesh,
-        young=args.young,
-        poisson=args.poisson_ratio,
+        young=_numbers(young, "--young"),
+        poisson=_numbers(ratio, "--poisson-ratio"),
         plane=args.plane,
-        body_force=args.source or "0, 0",
+        body_force=source if source is not None else "0, 0",
         displacement=dirichlet,
         traction=neumann,
         **common,
@@ -212,6 +299,7 @@ def run(args: argparse.Namespace) -> int:
     domain = resolve_domain(args)
     started = time.perf_counter()
     mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
+    dirichlet = _every_patch(dirichlet, neumann, mesh.patch_names)
     try:
         solution = _solve(args, mesh, dirichlet, neumann)
     except SolverError as error:  # the library names its keyword; here the flag is meant

@@ -105,7 +105,7 @@ def boundary_conditions(
     UnknownNameError
         For a patch the mesh does not have (the message lists the patches).
     SolverError
-        For a patch given both conditions.
+        For a patch given both conditions, or a condition on an interface.
     """
     given = {}
     for name, mapping in ((dirichlet_name, dirichlet), (neumann_name, neumann)):
@@ -118,6 +118,13 @@ def boundary_conditions(
         for patch in mapping:
             if not isinstance(patch, str):
                 raise ArgumentTypeError(f"{name}: patch names are strings, got {patch!r}")
+            if patch in mesh.interface_names and patch not in mesh.patch_names:
+                raise SolverError(
+                    f"{name} condition on {patch!r}: that is an interface (an internal patch "
+                    "between two regions), not a boundary patch; across an interface u and the "
+                    "flux are continuous by themselves. Give conditions on the boundary patches: "
+                    f"{', '.join(mesh.patch_names)}"
+                )
             mesh.patch_index(patch)
         given[name] = mapping
     both = [p for p in given[dirichlet_name] if p in given[neumann_name]]

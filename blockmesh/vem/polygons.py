@@ -193,6 +193,22 @@ class PolygonMesh:
             )
         return self.patch_names.index(patch)
 
+    @property
+    def region_names(self) -> tuple[str, ...]:
+        """The regions of the cells: the source Mesh's, or the one region ``"domain"``."""
+        return self.source.region_names if self.source is not None else ("domain",)
+
+    @property
+    def interface_names(self) -> tuple[str, ...]:
+        """The interfaces of the source Mesh (internal patches; none for other meshes)."""
+        return self.source.interface_names if self.source is not None else ()
+
+    def cell_region(self) -> np.ndarray:
+        """Index into :attr:`region_names` of every cell, in the mesh's cell order, (M,)."""
+        if self.source is not None:
+            return self.source.region
+        return np.zeros(self.n_cells, dtype=np.int64)
+
     def boundary_nodes(self) -> np.ndarray:
         """Sorted ids of the nodes on the boundary."""
         return np.unique(self.boundary_edges)

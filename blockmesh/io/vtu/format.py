@@ -74,6 +74,7 @@ from blockmesh.mesh.mesh import Mesh
 __all__ = [
     "FORMAT",
     "field_data",
+    "insert_field_data",
     "mesh_from_meshio",
     "meshio_arrays",
     "meshio_mesh",
@@ -123,8 +124,11 @@ def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
     return ("<FieldData>\n" + "".join(arrays) + "</FieldData>\n").encode("utf-8")
 
 
-def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
-    """Copy the meshio output ``src`` to ``dst`` with a <FieldData> block in <UnstructuredGrid>."""
+def insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
+    """Copy the meshio output ``src`` to ``dst`` with a <FieldData> block in <UnstructuredGrid>.
+
+    meshio writes no field data; ``data`` (name -> integer or ``uint8`` array) is added here.
+    """
     tag = b"<UnstructuredGrid>"
     with open(src, "rb") as fin, open(dst, "wb") as fout:
         head = fin.read(1 << 16)
@@ -178,7 +182,7 @@ def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
             compression=None if compression == "none" else compression,
             header_type="UInt64" if big else None,
         )
-        _insert_field_data(raw, final, field_data(mesh))
+        insert_field_data(raw, final, field_data(mesh))
     return Path(path).absolute()
 
 
