@@ -81,26 +81,26 @@ class _Circle:
 
     centre: np.ndarray
     radius: float
+    exact: bool = False  # the centre and radius as a user gave them (not computed)
     pieces: int = 0  # chords for a whole circle with no fixed points (0: no whole circle)
-    spans: list[tuple[float, float]] = field(default_factory=list)  # arcs: (start angle, sweep)
-    anchors: dict[tuple[float, float], float] = field(default_factory=dict)  # point -> angle
+    spans: list[tuple[tuple[float, float], float]] = field(default_factory=list)  # (start, sweep)
+    anchors: set[tuple[float, float]] = field(default_factory=set)  # points fixed on it
     xy: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     angle: np.ndarray = field(default_factory=lambda: np.zeros(0))
     index: dict[tuple[float, float], int] = field(default_factory=dict)
 
-    def angle_of(self, point: np.ndarray) -> float:
+    def angle_of(self, point: Any) -> float:
         return math.atan2(point[1] - self.centre[1], point[0] - self.centre[0])
 
     def anchor(self, point: np.ndarray) -> None:
-        key = (float(point[0]), float(point[1]))
-        self.anchors.setdefault(key, self.angle_of(point))
+        self.anchors.add((float(point[0]), float(point[1])))
 
     def covers(self, angle: float) -> bool:
         """Whether a point of the circle at ``angle`` lies on a whole circle or an arc of it."""
         if self.pieces:
             return True
         for start, sweep in self.spans:
-            turn = (angle - start) * math.copysign(1.0, sweep) % (2 * math.pi)
+            turn = (angle - self.angle_of(start)) * math.copysign(1.0, sweep) % (2 * math.pi)
             if turn <= abs(sweep):
                 return True
         return False
@@ -114,8 +114,8 @@ class _Circle:
             self.angle = even
             self.xy = self.centre + self.radius * np.c_[np.cos(even), np.sin(even)]
         else:
-            keys = sorted(self.anchors, key=lambda k: self.anchors[k])
-            first = [self.anchors[k] for k in keys]
+            keys = sorted(self.anchors, key=self.angle_of)
+            first = [self.angle_of(k) for k in keys]
             angles: list[float] = []
             points: list[np.ndarray] = []
             for j, key in enumerate(keys):
@@ -149,15 +149,18 @@ class _Circles:
         self.items: list[_Circle] = []
         self.tol = _SAME_CIRCLE * size
 
-    def find(self, centre: Sequence[float], radius: float) -> int:
+    def find(self, centre: Sequence[float], radius: float, exact: bool = False) -> int:
+        """The circle's index; a circle given exactly replaces one computed (within a hair)."""
         c = np.asarray(centre, dtype=np.float64)
         for k, circle in enumerate(self.items):
             if (
                 float(np.hypot(*(circle.centre - c))) <= self.tol
                 and abs(circle.radius - radius) <= self.tol
             ):
+                if exact and not circle.exact:
+                    circle.centre, circle.radius, circle.exact = c, float(radius), True
                 return k
-        self.items.append(_Circle(c, float(radius)))
+        self.items.append(_Circle(c, float(radius), exact))
         return len(self.items) - 1
 
 
@@ -244,18 +247,18 @@ def _circles(parts: list[Part], size: float) -> _Circles:
             for outline in polygon:
                 if outline.circle is not None:
                     centre, radius, sides = outline.circle
-                    circle = circles.items[circles.find(centre, radius)]
+                    circle = circles.items[circles.find(centre, radius, outline.circle_exact)]
                     circle.pieces = max(circle.pieces, 2 * sides)
                     continue
                 n = len(outline.corners)
                 for e, arc in enumerate(outline.arcs):
                     if arc is None:
                         continue
-                    circle = circles.items[circles.find(arc.centre, arc.radius)]
+                    circle = circles.items[circles.find(arc.centre, arc.radius, arc.exact)]
                     p, q = outline.corners[e], outline.corners[(e + 1) % n]
                     circle.anchor(p)
                     circle.anchor(q)
-                    circle.spans.append((circle.angle_of(p), arc.sweep))
+                    circle.spans.append(((float(p[0]), float(p[1])), arc.sweep))
     return circles
 
 

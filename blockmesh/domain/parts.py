@@ -74,11 +74,15 @@ class ArcEdge:
     radius : float
     sweep : float
         Signed angle from the edge's first corner to its second, radians (counter-clockwise > 0).
+    exact : bool
+        Whether the centre is as the user gave it (an arc around a centre), rather than computed
+        from a point the arc passes through (with its rounding).
     """
 
     centre: tuple[float, float]
     radius: float
     sweep: float
+    exact: bool = False
 
 
 @dataclass(frozen=True)
@@ -98,6 +102,9 @@ class Outline:
         default, as the polygon form's circular holes).
     label : str
         The ring as the user knows it (``"the polygon"``, ``"hole 1"``, ``"circle 0"``).
+    circle_exact : bool
+        Whether the circle's centre and radius are as a user gave them (not computed from points
+        on it, with their rounding).
     """
 
     corners: np.ndarray
@@ -105,6 +112,7 @@ class Outline:
     patches: tuple[str | None, ...]
     circle: tuple[tuple[float, float], float, int] | None
     label: str
+    circle_exact: bool = True
 
 
 @dataclass(frozen=True)
@@ -239,7 +247,8 @@ def _outline(
             continue
         where = "the polygon's edge" if ring == 0 else f"hole {ring - 1}'s edge"
         bound = arc.with_ends(corners[e], corners[(e + 1) % n], f"{where} {e}")
-        edges.append(ArcEdge(bound.centre_point, bound.radius, bound.sweep))
+        exact = arc.center is not None
+        edges.append(ArcEdge(bound.centre_point, bound.radius, bound.sweep, exact))
     patches = tuple(named[ring]) if named is not None else (None,) * n
     return Outline(corners, tuple(edges), patches, None, label)
 
@@ -333,9 +342,8 @@ def part_from_domain(region: str, domain: Domain, label: str) -> Part:
             arc = _arc_of(domain, int(a), int(b), label)
             patch = patch_of[(int(a), int(b))]
             pieces.append((int(a), arc, None if patch == DEFAULT_PATCH else patch))
-        ring = _joined(domain.vertices, pieces)
-        rings.append(ring)
-        areas.append(_outline_area(ring))
+        rings.append(_joined(domain.vertices, pieces))
+        areas.append(_loop_area(domain.vertices[loop], [arc for _, arc, _ in pieces]))
     shells = [k for k, a in enumerate(areas) if a > 0]
     polygons: dict[int, list[Outline]] = {k: [rings[k]] for k in shells}
     shapes = {k: shapely.Polygon(_sampled(rings[k])) for k in shells}
@@ -371,7 +379,7 @@ def _arc_of(domain: Domain, a: int, b: int, label: str) -> ArcEdge | None:
             f"{label}: the domain's boundary edge ({a}, {b}) is a {curve.kind}; a part's curved "
             "edges must be circular arcs (a composite domain follows circles exactly)"
         )
-    return ArcEdge(curve.centre_point, curve.radius, sign * curve.sweep)
+    return ArcEdge(curve.centre_point, curve.radius, sign * curve.sweep, curve.center is not None)
 
 
 def _same_circle(one: ArcEdge, two: ArcEdge) -> bool:
@@ -404,9 +412,9 @@ def _joined(vertices: np.ndarray, pieces: list[tuple[int, ArcEdge | None, str | 
         arc = pieces[0][1]
         if arc is None:  # pragma: no cover - a loop of straight edges on one line has no area
             raise DomainError("a boundary loop of the domain has no area")
-        return Outline(
-            np.zeros((0, 2)), (), (pieces[0][2],), (arc.centre, arc.radius, 8), "the outline"
-        )
+        exact = all(piece[1] is not None and piece[1].exact for piece in pieces)
+        circle = (arc.centre, arc.radius, 8)
+        return Outline(np.zeros((0, 2)), (), (pieces[0][2],), circle, "the outline", exact)
     corners: list[np.ndarray] = []
     arcs: list[ArcEdge | None] = []
     patches: list[str | None] = []
@@ -419,14 +427,19 @@ def _joined(vertices: np.ndarray, pieces: list[tuple[int, ArcEdge | None, str | 
             arcs.append(None)
         else:
             turn = sum(piece.sweep for m in run if (piece := pieces[m][1]) is not None)
-            arcs.append(ArcEdge(first.centre, first.radius, turn))
+            arcs.append(ArcEdge(first.centre, first.radius, turn, first.exact))
         patches.append(pieces[k][2])
     return Outline(np.array(corners), tuple(arcs), tuple(patches), None, "the outline")
 
 
-def _outline_area(ring: Outline) -> float:
-    xy = _sampled(ring)
-    return 0.5 * float(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]))
+def _loop_area(corners: np.ndarray, arcs: list[ArcEdge | None]) -> float:
+    """Signed area of a loop (counter-clockwise > 0): its corners' polygon and arc segments."""
+    x, y = corners[:, 0] - corners[0, 0], corners[:, 1] - corners[0, 1]
+    area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    for arc in arcs:
+        if arc is not None:  # the circular segment between the arc and its chord, signed
+            area += 0.5 * arc.radius**2 * (arc.sweep - math.sin(arc.sweep))
+    return area
 
 
 def _sampled(ring: Outline, turn: float = math.pi / 12) -> np.ndarray:
