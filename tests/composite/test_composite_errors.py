@@ -23,7 +23,9 @@ def test_a_partial_overlap_is_resolved_by_the_rule():
 
 
 def test_a_part_left_empty_names_the_parts():
-    with pytest.raises(DomainError, match=r"part 0 \('a'\) is covered entirely by the later part 1"):
+    with pytest.raises(
+        DomainError, match=r"part 0 \('a'\) is covered entirely by the later part 1"
+    ):
         Domain.compose({"a": box(0, 0, 1, 1), "b": box(-1, -1, 2, 2)})
 
 
@@ -52,7 +54,9 @@ def test_parts_touching_at_a_point_only():
         Domain.compose({"a": box(0, 0, 1, 1), "b": box(1, 1, 2, 2)})
     # A fibre touching the matrix's edge from inside pinches the matrix.
     with pytest.raises(DomainError, match=r"touches itself at the single point \(1, 0\)"):
-        Domain.compose({"m": box(0, 0, 2, 2), "f": {"circles": [{"center": [1, 0.5], "radius": 0.5}]}})
+        Domain.compose(
+            {"m": box(0, 0, 2, 2), "f": {"circles": [{"center": [1, 0.5], "radius": 0.5}]}}
+        )
     # Nearly touching is a sliver, reported as such.
     with pytest.raises(DomainError, match=r"a sliver of part 0 \('m'\) is only 1e-09 wide"):
         Domain.compose(
@@ -105,7 +109,9 @@ def test_bad_parts_tables():
         Domain.from_toml_text("[[parts]]\npolygon = [[0, 0], [1, 0], [1, 1]]")
     with pytest.raises(DomainFormatError, match=r"parts entry 0 has the unknown key 'vertices'"):
         Domain.from_toml_text('[[parts]]\nregion = "a"\nvertices = [[0, 0]]')
-    with pytest.raises(DomainFormatError, match=r"with \[\[parts\]\], the geometry is in the parts"):
+    with pytest.raises(
+        DomainFormatError, match=r"with \[\[parts\]\], the geometry is in the parts"
+    ):
         Domain.from_toml_text('polygon = [[0, 0], [1, 0], [1, 1]]\n[[parts]]\nregion = "a"')
     with pytest.raises(DomainError, match=r"part 0 \('a'\) is not a valid polygon \(self-inter"):
         Domain.compose({"a": shapely.Polygon([(0, 0), (1, 1), (1, 0), (0, 1)])})
@@ -119,7 +125,9 @@ def test_a_condition_on_an_interface_is_refused_naming_it():
 
 def test_cli_errors_are_located_and_write_nothing(capsys, tmp_path):
     bad = tmp_path / "bad.wkt"
-    bad.write_text("a = POLYGON ((0 0, 1 0, 1 1, 0 1, 0 0))\nb = POLYGON ((1 1, 2 1, 2 2, 1 2, 1 1))\n")
+    bad.write_text(
+        "a = POLYGON ((0 0, 1 0, 1 1, 0 1, 0 0))\nb = POLYGON ((1 1, 2 1, 2 2, 1 2, 1 1))\n"
+    )
     out = tmp_path / "out.vtu"
     code, _, stderr = run_cli(capsys, "mesh", str(bad), "--level", "1", "-o", str(out))
     assert code != 0 and "touch at the single point (1, 1)" in stderr and not out.exists()

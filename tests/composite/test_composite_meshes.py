@@ -97,7 +97,9 @@ def test_domain_file_round_trip(composites, tmp_path):
 @pytest.mark.parametrize("fmt", sorted(bio.FORMATS))
 def test_every_format_carries_the_interfaces(composites, tmp_path, fmt):
     mesh = composites["heat-sink"].mesh(1)
-    target = tmp_path / ("case" if bio.FORMATS[fmt].directory else f"mesh{bio.FORMATS[fmt].extensions[0]}")
+    target = tmp_path / (
+        "case" if bio.FORMATS[fmt].directory else f"mesh{bio.FORMATS[fmt].extensions[0]}"
+    )
     back = bio.read(bio.write(mesh, target, format=fmt), format=fmt)
     assert np.array_equal(back.region, mesh.region)
     pairs = sorted(zip(map(tuple, back.interface_edges.tolist()), back.interface_patch.tolist()))

@@ -105,7 +105,10 @@ def _inclusion_errors(levels):
     for level in levels:
         mesh = domain.mesh(level)
         sol = solve_poisson(
-            mesh, 0, diffusion={"matrix": 1, "inclusion": k}, dirichlet={"boundary": exact["matrix"]}
+            mesh,
+            0,
+            diffusion={"matrix": 1, "inclusion": k},
+            dirichlet={"boundary": exact["matrix"]},
         )
         errors = sol.errors(exact)
         out.append((sol.info.dof, errors.l2, errors.h1))
