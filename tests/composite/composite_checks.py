@@ -18,7 +18,7 @@ from blockmesh.domain.catalogue import catalogue_path
 from blockmesh.geometry.topology import cell_neighbours
 
 #: Segments per quarter circle of the exact shapes (area error about 1e-7 relative).
-FINE = 512
+FINE = 2048
 
 
 def disc(center, radius) -> shapely.Polygon:
