@@ -40,6 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from blockmesh.decompose.decomposition import _check_representable
 from blockmesh.decompose.merge import pair_triangles
 from blockmesh.decompose.optimise import improve_angles
 from blockmesh.decompose.pieces import pentagons_from_pieces
@@ -50,8 +51,6 @@ from blockmesh.decompose.triangulate import (
 )
 from blockmesh.errors import DomainError, ResourceError
 from blockmesh.geometry.polygons import (
-    COLLINEAR_SIN_TOL,
-    corner_sines,
     interior_angles,
     local_frame,
 )
@@ -146,16 +145,7 @@ def decompose_faces(
     nodes, blocks, block_face, chains = _decompose_local(local, rings, min_angle)
     vertices = frame.to_global(nodes)
     vertices[: len(points)] = points
-    sines = corner_sines(vertices[blocks])
-    bad = np.flatnonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1))
-    if bad.size:
-        size = float(np.ptp(vertices[blocks[bad[0]]], axis=0).max())
-        raise DomainError(
-            f"the parts are too small for where they sit to be decomposed in double precision: "
-            f"their blocks are about {size:.3g} across at coordinates near "
-            f"{float(np.max(np.abs(frame.origin))):.3g}, where doubles are only "
-            f"{frame.ulp():.3g} apart; move the domain near the origin (or use other units)"
-        )
+    _check_representable(vertices, blocks, frame, "the composite domain")
     angles = interior_angles(vertices[blocks])
     for array in (vertices, blocks, block_face, *(c for f in chains for r in f for c in r)):
         array.setflags(write=False)

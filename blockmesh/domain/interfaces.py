@@ -19,13 +19,12 @@ Examples
 
 from __future__ import annotations
 
-import numbers
 import re
 from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from blockmesh.domain.validate import _mapping, _raise
+from blockmesh.domain.validate import _mapping, _raise, edge_pair
 from blockmesh.errors import DomainError, DomainFormatError
 
 __all__ = [
@@ -118,18 +117,7 @@ def resolve_interfaces(
             )
         names.append(name)
         for edge in edges:
-            pair = list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
-            if (
-                pair is None
-                or len(pair) != 2
-                or not all(
-                    isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair
-                )
-            ):
-                raise DomainFormatError(
-                    f"interface {name!r} has {edge!r}; each edge is a pair of vertex ids [a, b]"
-                )
-            a, b = int(pair[0]), int(pair[1])
+            a, b = edge_pair(edge, f"interface {name!r}")
             forward, backward = owner(a, b), owner(b, a)
             if forward < 0 or backward < 0:
                 where = "on the boundary" if max(forward, backward) >= 0 else "no block edge"

@@ -55,6 +55,7 @@ __all__ = [
     "check_block_shapes",
     "check_rings",
     "check_topology",
+    "edge_pair",
     "fmt_point",
     "parse_blocks",
     "parse_points",
@@ -978,18 +979,7 @@ def resolve_patches(
         names.append(name)
         k_name = len(names) - 1
         for edge in edges:
-            pair = list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
-            if (
-                pair is None
-                or len(pair) != 2
-                or not all(
-                    isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair
-                )
-            ):
-                raise DomainFormatError(
-                    f"patch {name!r} has {edge!r}; each edge is a pair of vertex ids [a, b]"
-                )
-            key = (int(pair[0]), int(pair[1]))
+            key = edge_pair(edge, f"patch {name!r}")
             k = index.get(key)
             if k is None:
                 owners = _edge_owners(blocks, *key)
@@ -1022,6 +1012,24 @@ def resolve_patches(
     empty = [n for k, n in enumerate(names) if k not in used]
     _raise(DomainError, [f"patch {n!r} has no edges; give it edges or remove it" for n in empty])
     return tuple(names), patch
+
+
+def edge_pair(edge: object, owner: str) -> tuple[int, int]:
+    """``edge`` as a pair of vertex ids ``(a, b)``; DomainFormatError naming ``owner`` otherwise.
+
+    Examples
+    --------
+    >>> edge_pair([3, 4], "patch 'inlet'")
+    (3, 4)
+    """
+    pair = list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
+    if (
+        pair is None
+        or len(pair) != 2
+        or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair)
+    ):
+        raise DomainFormatError(f"{owner} has {edge!r}; each edge is a pair of vertex ids [a, b]")
+    return int(pair[0]), int(pair[1])
 
 
 def _edge_owners(blocks: np.ndarray, a: int, b: int) -> list[int]:

@@ -304,13 +304,7 @@ def mesh_from_arrays(
         region = np.zeros(m, dtype=np.int64)
         region_names = region_names or ("domain",)
     region = _index_array(region, m, "region", where)
-    if region_names is None:
-        region_names = tuple(f"region_{k}" for k in range(int(region.max(initial=-1)) + 1))
-    if region.size and (region.min() < 0 or region.max() >= len(region_names)):
-        raise ExportError(
-            f"{where}: region indices run from {region.min()} to {region.max()}, "
-            f"but there are {len(region_names)} region names"
-        )
+    region_names = _names_of(region, region_names, "region", where)
     if boundary_edges is None:
         boundary_edges = boundary_of_cells(cells, n)
         boundary_patch = np.zeros(boundary_edges.shape[0], dtype=np.int64)
@@ -366,13 +360,7 @@ def _interface_arrays(
     ei = edges.shape[0]
     edges = _index_array(edges, 2 * ei, "interface edges", where).reshape(-1, 2)
     patch = np.zeros(ei, np.int64) if patch is None else _index_array(patch, ei, "interface", where)
-    if names is None:
-        names = tuple(f"interface_{k}" for k in range(int(patch.max(initial=-1)) + 1))
-    if patch.size and (patch.min() < 0 or patch.max() >= len(names)):
-        raise ExportError(
-            f"{where}: interface indices run from {patch.min()} to {patch.max()}, but there are "
-            f"{len(names)} interface names"
-        )
+    names = _names_of(patch, names, "interface", where)
     if edges.min() < 0 or edges.max() >= n:
         raise ExportError(f"{where}: interface edge node ids are out of range (0..{n - 1})")
     return {
@@ -380,3 +368,15 @@ def _interface_arrays(
         "interface_patch": _read_only(patch),
         "interface_names": tuple(str(k) for k in names),
     }
+
+
+def _names_of(index: np.ndarray, names: Any, kind: str, where: str) -> Any:
+    """``names`` (``KIND_0``, ``KIND_1``, ... when None), checked to cover every index."""
+    if names is None:
+        names = tuple(f"{kind}_{k}" for k in range(int(index.max(initial=-1)) + 1))
+    if index.size and (index.min() < 0 or index.max() >= len(names)):
+        raise ExportError(
+            f"{where}: {kind} indices run from {index.min()} to {index.max()}, "
+            f"but there are {len(names)} {kind} names"
+        )
+    return names

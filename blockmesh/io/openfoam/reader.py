@@ -234,12 +234,17 @@ def _note(header: dict[str, str]) -> dict[str, int]:
     return {k: int(v) for k, v in re.findall(r"(n\w+):\s*(\d+)", header.get("note", ""))}
 
 
-def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None:
-    if not ((poly / "cellZones").exists() or (poly / "cellZones.gz").exists()):
+def _zones(poly: Path, file: str) -> list[tuple[str, dict[str, np.ndarray]]] | None:
+    """The zones of ``poly/file`` (``cellZones``, ``faceZones``): each name and its lists.
+
+    The lists are the ``NAME List<label|bool> ...`` entries of each zone (``cellLabels``,
+    ``faceLabels``, ``flipMap``), read whether written one value a line, inline or uniform.
+    None when there is no such file.
+    """
+    if not ((poly / file).exists() or (poly / f"{file}.gz").exists()):
         return None
-    region = np.full(n_cells, -1, dtype=np.int64)
-    names: list[str] = []
-    with foam_file(poly, "cellZones") as (r, _):
+    out: list[tuple[str, dict[str, np.ndarray]]] = []
+    with foam_file(poly, file) as (r, _):
         n_zones = _list_size(r)
         if _significant(r) != b"(":
             raise ExportError(f"{r.where}: expected ( after the number of zones")
@@ -247,32 +252,49 @@ def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None
             name = _significant(r).decode(errors="replace")
             if _significant(r) != b"{":
                 raise ExportError(f"{r.where}, line {r.line_number}: expected {{ after zone {name}")
-            labels = None
+            found: dict[str, np.ndarray] = {}
             while True:
                 line = _significant(r)
                 if line.startswith(b"}"):
                     break
-                match = re.match(rb"cellLabels\s+List<label>\s*(.*)$", line)
-                if match is None:
-                    continue
-                rest = match[1].strip()
-                if _INLINE.match(rest) or _UNIFORM.match(rest):
-                    inner = _INLINE.match(rest) or _UNIFORM.match(rest)
-                    assert inner is not None
-                    values = parse_numbers(inner[2], np.int64, f"{r.where}, line {r.line_number}")
-                    labels = values if _INLINE.match(rest) else np.repeat(values, int(inner[1]))
-                else:
-                    count = int(rest) if rest.isdigit() else _list_size(r)
-                    if _significant(r) != b"(":
-                        raise ExportError(f"{r.where}, line {r.line_number}: expected (")
-                    labels = r.table(count, 1, np.int64).ravel()
-                    _significant(r)  # the closing ")" (or ");")
-            if labels is None:
-                raise ExportError(f"{r.where}: zone {name} has no cellLabels")
-            if labels.size and (labels.min() < 0 or labels.max() >= n_cells):
-                raise ExportError(f"{r.where}: zone {name} names cells outside 0..{n_cells - 1}")
-            region[labels] = len(names)
-            names.append(name)
+                match = re.match(rb"(\w+)\s+List<(?:label|bool)>\s*(.*)$", line)
+                if match is not None:
+                    found[match[1].decode()] = _zone_list(r, match[2].strip())
+            out.append((name, found))
+    return out
+
+
+def _zone_list(r: TextReader, rest: bytes) -> np.ndarray:
+    """The values of a zone's list whose first line (after ``List<...>``) is ``rest``."""
+    where = f"{r.where}, line {r.line_number}"
+    for pattern in (_INLINE, _UNIFORM):
+        inner = pattern.match(rest)
+        if inner:
+            values = parse_numbers(inner[2], np.int64, where)
+            return values if pattern is _INLINE else np.repeat(values, int(inner[1]))
+    count = int(rest) if rest.isdigit() else _list_size(r)
+    if _significant(r) != b"(":
+        raise ExportError(f"{where}: expected (")
+    values = r.table(count, 1, np.int64).ravel()
+    _significant(r)  # the closing ")" (or ");")
+    return values
+
+
+def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None:
+    zones = _zones(poly, "cellZones")
+    if zones is None:
+        return None
+    where = str(poly / "cellZones")
+    region = np.full(n_cells, -1, dtype=np.int64)
+    names: list[str] = []
+    for name, lists in zones:
+        labels = lists.get("cellLabels")
+        if labels is None:
+            raise ExportError(f"{where}: zone {name} has no cellLabels")
+        if labels.size and (labels.min() < 0 or labels.max() >= n_cells):
+            raise ExportError(f"{where}: zone {name} names cells outside 0..{n_cells - 1}")
+        region[labels] = len(names)
+        names.append(name)
     if np.any(region < 0):
         region[region < 0] = len(names)
         names.append("unzoned")
@@ -465,58 +487,25 @@ def _read_face_zones(
     poly: Path, n_internal: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]] | None:
     """The internal faces of every face zone: labels, flips, zone index, zone names (or None)."""
-    if not ((poly / "faceZones").exists() or (poly / "faceZones.gz").exists()):
+    zones = _zones(poly, "faceZones")
+    if not zones:
         return None
-    labels: list[np.ndarray] = []
-    flips: list[np.ndarray] = []
-    names: list[str] = []
-    with foam_file(poly, "faceZones") as (r, _):
-        n_zones = _list_size(r)
-        if _significant(r) != b"(":
-            raise ExportError(f"{r.where}: expected ( after the number of zones")
-        for _ in range(n_zones):
-            name = _significant(r).decode(errors="replace")
-            if _significant(r) != b"{":
-                raise ExportError(f"{r.where}, line {r.line_number}: expected {{ after zone {name}")
-            found: dict[str, np.ndarray] = {}
-            while True:
-                line = _significant(r)
-                if line.startswith(b"}"):
-                    break
-                match = re.match(rb"(faceLabels|flipMap)\s+List<(?:label|bool)>\s*(.*)$", line)
-                if match is not None:
-                    found[match[1].decode()] = _zone_list(r, match[2].strip())
-            face = found.get("faceLabels")
-            if face is None:
-                raise ExportError(f"{r.where}: face zone {name} has no faceLabels")
-            if face.size and (face.min() < 0 or face.max() >= n_internal):
-                raise ExportError(
-                    f"{r.where}: face zone {name} names faces outside the internal faces "
-                    f"0..{n_internal - 1} (blockmesh reads zones of internal faces: interfaces)"
-                )
-            flip = found.get("flipMap", np.zeros(face.size, dtype=np.int64))
-            if flip.size != face.size:
-                raise ExportError(f"{r.where}: face zone {name}'s flipMap has another length")
-            labels.append(face)
-            flips.append(flip != 0)
-            names.append(name)
-    if not names:
-        return None
+    where = str(poly / "faceZones")
+    labels, flips, names = [], [], []
+    for name, lists in zones:
+        face = lists.get("faceLabels")
+        if face is None:
+            raise ExportError(f"{where}: face zone {name} has no faceLabels")
+        if face.size and (face.min() < 0 or face.max() >= n_internal):
+            raise ExportError(
+                f"{where}: face zone {name} names faces outside the internal faces "
+                f"0..{n_internal - 1} (blockmesh reads zones of internal faces: interfaces)"
+            )
+        flip = lists.get("flipMap", np.zeros(face.size, dtype=np.int64))
+        if flip.size != face.size:
+            raise ExportError(f"{where}: face zone {name}'s flipMap has another length")
+        labels.append(face)
+        flips.append(flip != 0)
+        names.append(name)
     zone = np.repeat(np.arange(len(names)), [f.size for f in labels])
     return np.concatenate(labels), np.concatenate(flips), zone, names
-
-
-def _zone_list(r: TextReader, rest: bytes) -> np.ndarray:
-    """The values of a zone's list whose first line (after ``List<...>``) is ``rest``."""
-    where = f"{r.where}, line {r.line_number}"
-    for pattern in (_INLINE, _UNIFORM):
-        inner = pattern.match(rest)
-        if inner:
-            values = parse_numbers(inner[2], np.int64, where)
-            return values if pattern is _INLINE else np.repeat(values, int(inner[1]))
-    count = int(rest) if rest.isdigit() else _list_size(r)
-    if _significant(r) != b"(":
-        raise ExportError(f"{where}: expected (")
-    values = r.table(count, 1, np.int64).ravel()
-    _significant(r)  # the closing ")" (or ");")
-    return values
