@@ -66,6 +66,10 @@ __all__ = ["CIRCLE_PIECES", "MIN_ANGLE", "compose_parts"]
 #: Chords a whole circle is followed with by default (two per 45 degrees; a part's circle may
 #: ask for more with ``sides``); between the points fixed on a circle no chord turns more.
 CIRCLE_PIECES = 16
+#: How many times finer circles are followed when the blocks along them do not stay convex with
+#: their arcs (a chord's bulge larger than the blocks beside it, as where two circles cross at a
+#: sharp angle): each try doubles the chords of every circle.
+FINER = (1, 2, 4, 8)
 #: Smallest angle (degrees) the triangulation of the faces aims at: above the single polygon's
 #: default, as the faces' chords of circles make corners where many triangles would meet
 #: (measured on a disc in a square: 22 degrees gives blocks of 22.5, 30 gives 43.7, 18 % more).
@@ -105,9 +109,12 @@ class _Circle:
                 return True
         return False
 
-    def sample(self) -> None:
-        """The points the circle is followed at: its fixed points, and more between them."""
-        wanted = max(self.pieces, CIRCLE_PIECES)
+    def sample(self, finer: int = 1) -> None:
+        """The points the circle is followed at: its fixed points, and more between them.
+
+        ``finer`` multiplies the number of chords (see :data:`FINER`).
+        """
+        wanted = max(self.pieces, CIRCLE_PIECES) * finer
         limit = 2 * math.pi / wanted
         if not self.anchors:
             even = 2 * math.pi * np.arange(wanted) / wanted
@@ -192,25 +199,43 @@ def compose_parts(
     if not parts:
         raise DomainError("a composite domain needs at least one part")
     _check_region_names(parts)
+    renames = _renames(interfaces, parts)
     size = _size(parts)
     tol = NEAR_TOL * size
-    circles = _circles(parts, size)
-    splits = _crossings(parts, circles, tol)
-    for circle in circles.items:
-        circle.sample()
-    rings = [
-        [[_follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
-         for j, polygon in enumerate(part.polygons)]
-        for i, part in enumerate(parts)
-    ]  # fmt: skip
-    shapes = [_part_shape(part, part_rings) for part, part_rings in zip(parts, rings, strict=True)]
-    regions = _fragments(parts, shapes)
-    pieces = _SourcePieces(parts, rings)
-    _report_filled_holes(parts, rings, regions, tol)
-    arrangement = _Arrangement.of(parts, regions, pieces, tol)
-    renames = _renames(interfaces, parts)
-    result = decompose_faces(arrangement.points, arrangement.faces, min_angle=MIN_ANGLE)
-    return _build(cls, parts, arrangement, result, circles, pieces, renames, name, description)
+    for attempt, finer in enumerate(FINER):
+        circles = _circles(parts, size)
+        splits = _crossings(parts, circles, tol)
+        for circle in circles.items:
+            circle.sample(finer)
+        rings = [
+            [[_follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
+             for j, polygon in enumerate(part.polygons)]
+            for i, part in enumerate(parts)
+        ]  # fmt: skip
+        shapes = [_part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
+        regions = _fragments(parts, shapes)
+        pieces = _SourcePieces(parts, rings)
+        if attempt == 0:
+            _report_filled_holes(parts, rings, regions, tol)
+        arrangement = _Arrangement.of(parts, regions, pieces, tol)
+        result = decompose_faces(arrangement.points, arrangement.faces, min_angle=MIN_ANGLE)
+        try:
+            return _build(
+                cls, parts, arrangement, result, circles, pieces, renames, name, description
+            )
+        except _BlocksFailError as failed:
+            # Blocks that fold with their arcs: follow the circles more finely and try again.
+            if not circles.items or finer == FINER[-1]:
+                raise failed.error from None
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+class _BlocksFailError(Exception):
+    """The blocks made for the faces fail the Domain's checks (``error`` says how)."""
+
+    def __init__(self, error: DomainError) -> None:
+        super().__init__(str(error))
+        self.error = error
 
 
 def _check_region_names(parts: list[Part]) -> None:
@@ -769,19 +794,22 @@ def _build(
         [faces for faces in arrangement.edge_faces.values() if len(faces) == 2], dtype=np.int64
     ).reshape(-1, 2)
     components, _ = graph_components(len(arrangement.faces), joined[:, 0], joined[:, 1])
-    return cls._from_parsed(
-        vertices,
-        np.array(result.blocks),
-        patches,
-        regions,
-        made_for="the composite domain",
-        name=name,
-        description=description,
-        layout="composite",
-        edges=edges,
-        interfaces=interfaces,
-        components=components,
-    )
+    try:
+        return cls._from_parsed(
+            vertices,
+            np.array(result.blocks),
+            patches,
+            regions,
+            made_for="the composite domain",
+            name=name,
+            description=description,
+            layout="composite",
+            edges=edges,
+            interfaces=interfaces,
+            components=components,
+        )
+    except DomainError as error:
+        raise _BlocksFailError(error) from None
 
 
 def _chord_of(
