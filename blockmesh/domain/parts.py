@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -357,7 +357,12 @@ def part_from_domain(region: str, domain: Domain, label: str) -> Part:
         if owner is None:  # pragma: no cover - a Domain's hole lies in one of its outlines
             raise DomainError(f"{label}: a hole of the domain lies in none of its outlines")
         polygons[owner].append(rings[k])
-    return Part(region, tuple(tuple(p) for p in polygons.values()), label)
+    named = [
+        (replace(rings[0], label="the outline"),
+         *(replace(hole, label=f"hole {k}") for k, hole in enumerate(rings[1:])))
+        for rings in polygons.values()
+    ]  # fmt: skip
+    return Part(region, tuple(named), label)
 
 
 def _loops(boundary: np.ndarray) -> list[np.ndarray]:

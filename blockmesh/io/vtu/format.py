@@ -124,11 +124,8 @@ def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
     return ("<FieldData>\n" + "".join(arrays) + "</FieldData>\n").encode("utf-8")
 
 
-def insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
-    """Copy the meshio output ``src`` to ``dst`` with a <FieldData> block in <UnstructuredGrid>.
-
-    meshio writes no field data; ``data`` (name -> integer or ``uint8`` array) is added here.
-    """
+def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
+    """Copy the meshio output ``src`` to ``dst`` with a <FieldData> block in <UnstructuredGrid>."""
     tag = b"<UnstructuredGrid>"
     with open(src, "rb") as fin, open(dst, "wb") as fout:
         head = fin.read(1 << 16)
@@ -138,6 +135,15 @@ def insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None
         at += len(tag)
         fout.write(head[:at] + b"\n" + _field_data_xml(data) + head[at:])
         shutil.copyfileobj(fin, fout, 1 << 22)
+
+
+def insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
+    """Copy a VTU file meshio wrote (``src``) to ``dst`` with ``data`` as its field data.
+
+    meshio writes no field data; ``data`` maps names to integer (or ``uint8``) arrays, as
+    :func:`field_data` gives them. Other writers of VTU files (solutions) use it too.
+    """
+    _insert_field_data(src, dst, data)
 
 
 def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
@@ -182,7 +188,7 @@ def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
             compression=None if compression == "none" else compression,
             header_type="UInt64" if big else None,
         )
-        insert_field_data(raw, final, field_data(mesh))
+        _insert_field_data(raw, final, field_data(mesh))
     return Path(path).absolute()
 
 
