@@ -288,7 +288,7 @@ def group_node_ids(
     edge_ids: np.ndarray,
     out: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Global ids of the template nodes of blocks ``first .. stop-1``, (G, n_L) int64.
+    """Global ids of the template nodes of blocks ``first`` to ``stop - 1``, (G, n_L) int64.
 
     ``edge_ids`` (G, 5, 2^L + 1) are the ids along the blocks' edges (rows of
     :func:`edge_id_table`); ``out`` (G, n_L) int64 is filled and returned when given. Each of a
@@ -410,7 +410,7 @@ def chunk_coordinates(
     *,
     slot_major: bool = False,
 ) -> np.ndarray:
-    """The midpoints and inner points of parent cells ``j0 .. j1-1`` of every block.
+    """The midpoints and inner points of parent cells ``j0`` to ``j1 - 1`` of every block.
 
     Returns a view into ``scratch``, (B, 10 (j1 - j0)) complex128: slot ``10 j + k`` holds
     ``u_k`` (k < 5) or ``w_(k-5)`` of parent ``j0 + j`` (``step.source`` says which slot each

@@ -9,7 +9,7 @@ stays strictly convex.
 
 It minimises a shape energy, the sum over all cell corners of the corner's distortion from the
 corner of a regular polygon with the same number of vertices (Knupp's condition number of the
-corner's Jacobian against the ideal one):
+corner's Jacobian against the ideal one)::
 
     μ = |A W⁻¹|²_F / (2 det(A W⁻¹)) >= 1,
 
