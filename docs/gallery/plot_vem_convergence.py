@@ -33,7 +33,7 @@ for level in range(1, 5):
 # %%
 # The errors against the unknowns, with the slopes the theory predicts.
 
-fig, (ax, right) = plt.subplots(1, 2, figsize=(13, 5))
+fig, ax = plt.subplots(figsize=(7, 5))
 n = np.array(unknowns, dtype=float)
 ax.loglog(n, l2, "o-", label="L2 error")
 ax.loglog(n, h1, "s-", label="H1 error")
@@ -50,6 +50,7 @@ print("rates:", np.round(np.diff(np.log(l2)) / np.diff(np.log(n)), 2), "(L2),",
 
 mesh = domain.mesh(2)
 sol = solve_poisson(mesh, "2*pi^2*sin(pi*x)*sin(pi*y)", dirichlet=dirichlet)
+fig, right = plt.subplots(figsize=(6.5, 5.5))
 cells = PolyCollection(mesh.points[mesh.cells], array=sol.values[mesh.cells].mean(axis=1))
 cells.set_edgecolor("0.3")
 cells.set_linewidth(0.3)

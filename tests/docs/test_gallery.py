@@ -1,9 +1,10 @@
 """Every script of the examples gallery (``docs/gallery/plot_*.py``) runs and draws its pictures.
 
-The site's gallery shows what each script prints and the figures it leaves open (sphinx-gallery
-runs them when the site is built); here each runs as ``python plot_NAME.py`` would, in a fresh
-temporary folder with matplotlib's Agg backend, and must finish without error and draw at least
-one figure with something on it. The quick scripts are in the default run; the long ones are
+The site's gallery shows what each script prints and the figures each of its cells leaves open
+(sphinx-gallery runs the scripts cell by cell, ``# %%`` apart, when the site is built); here each
+runs the same way, in a fresh temporary folder with matplotlib's Agg backend, and must finish
+without error and draw at least one figure, every panel of every figure with something on it as
+the cell that drew it left it. The quick scripts are in the default run; the long ones are
 marked ``slow``, those that need an optional extra skip when it is absent.
 """
 
@@ -11,7 +12,8 @@ from __future__ import annotations
 
 import ast
 import importlib.util
-import runpy
+import itertools
+import re
 import tempfile
 from pathlib import Path
 
@@ -29,6 +31,13 @@ SLOW = {"plot_holes_and_arcs.py": "decomposes a polygon with an arc and a circle
 
 #: Scripts that need an optional extra: the module, and the extra that installs it.
 NEEDS = {"plot_partitioned_mesh.py": ("distributed", "distributed")}
+
+
+def _cells(source: str) -> list[str]:
+    """The script's cells (split at ``# %%`` lines), each padded to keep its line numbers."""
+    lines = source.splitlines(keepends=True)
+    starts = [0] + [i for i, line in enumerate(lines) if re.match(r"# %%", line)] + [len(lines)]
+    return ["\n" * a + "".join(lines[a:b]) for a, b in itertools.pairwise(starts)]
 
 
 def _params() -> list:
@@ -52,14 +61,21 @@ def test_gallery_script_runs_and_draws(
     monkeypatch.chdir(work)
     monkeypatch.setattr(tempfile, "tempdir", str(temporary))  # what the scripts write
     plt.close("all")
+    source = script.read_text(encoding="utf-8")
+    namespace = {"__name__": "__main__", "__file__": str(script)}
+    pictures = []
     try:
-        runpy.run_path(str(script), run_name="__main__")
-        figures = [plt.figure(n) for n in plt.get_fignums()]
-        assert figures, f"{script.name} drew no figure"
-        for figure in figures:
-            assert any(ax.has_data() for ax in figure.axes), f"{script.name}: an empty figure"
+        for cell in _cells(source):
+            exec(compile(cell, str(script), "exec"), namespace)
+            for number in plt.get_fignums():  # the pictures as sphinx-gallery saves them
+                figure = plt.figure(number)
+                pictures += [(ax.get_title(), ax.has_data()) for ax in figure.axes]
+            plt.close("all")
     finally:
         plt.close("all")
+    assert pictures, f"{script.name} drew no figure"
+    for title, drawn in pictures:
+        assert drawn, f"{script.name}: the panel {title!r} is empty when its cell ends"
     assert list(work.iterdir()) == [], f"{script.name} wrote into its working folder"
 
 
