@@ -5,9 +5,10 @@ quadrilateral refinements. This compares, on the same problems and counting the 
 
 * lowest-order virtual elements (``blockmesh.vem``) on the paper's pentagon refinement, on
   pentagons with Laplacian smoothing per level (``smooth=3``), with the paper's inner points
-  moved per level (``blockmesh.improve.inner_point_rule``), with optimised node placement per
-  level (``blockmesh.improve.optimize_nodes`` after every level), and on pentagons converted from
-  a uniform triangle mesh (9 pentagons per triangle, the template of ``Domain.from_polygon``);
+  moved per level (``blockmesh.refinement.improve.inner_point_rule``), with optimised node placement
+  per level (``blockmesh.refinement.improve.optimize_nodes`` after every level), and on pentagons
+  converted from a uniform triangle mesh (9 pentagons per triangle, the template of
+  ``Domain.from_polygon``);
 * P1 triangles and Q1 quadrilaterals of scikit-fem on uniform n x n grids.
 
 Problems: u = sin(pi x) sin(pi y) on the unit square (smooth); u = r^(2/3) sin(2 phi / 3) on the
@@ -51,8 +52,8 @@ from _page import Page, add_arguments
 
 import blockmesh
 from blockmesh.decompose import decompose_convex_polygon
-from blockmesh.improve import inner_point_rule, refine_with_rule
 from blockmesh.mesh import Mesh
+from blockmesh.refinement.improve import inner_point_rule, refine_with_rule
 from blockmesh.vem import PolygonMesh, elasticity_matrix, solve_elasticity, solve_poisson
 from blockmesh.vem.assembly import solve_system
 from blockmesh.vem.evaluate import boundary_values

@@ -26,8 +26,8 @@ from _page import Page, add_arguments
 from blockmesh import Domain
 from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.decompose.triangulate import triangulate
+from blockmesh.domain.validate import check_rings
 from blockmesh.geometry import interior_angles, local_frame
-from blockmesh.validate import check_rings
 
 
 def star(n: int, lobes: int = 7, depth: float = 0.3) -> np.ndarray:

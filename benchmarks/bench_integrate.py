@@ -22,14 +22,8 @@ import numpy as np
 from _page import Page, add_arguments
 from scipy import integrate as scipy_integrate
 
-from blockmesh.expr import parse_expression
-from blockmesh.quadrature import (
-    DEFAULT_CHUNK,
-    RULES,
-    integrate,
-    integrate_to_tolerance,
-    rule_info,
-)
+from blockmesh.numerics.expr import parse_expression
+from blockmesh.quadrature import DEFAULT_CHUNK, RULES, integrate, integrate_to_tolerance, rule_info
 from blockmesh.quadrature.kernel import chunks
 from blockmesh.tables import PENTAGONS, paper_case, pentagon_mesh
 

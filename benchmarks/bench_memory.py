@@ -11,7 +11,8 @@ child), and prints their ratio; the guard is meant to be within 25 % at levels 6
 Calibrate mode: in one process, refines once per level, then runs each stage (report, rcm, plots,
 every export format) with the peak resident set reset before it (``/proc/self/clear_refs``), and
 fits ``extra = per_cell * cells + constant`` over the levels: the numbers in
-``blockmesh.memory.STAGE_COSTS``. Not a test: figures depend on the machine and its libraries.
+``blockmesh.refinement.sizes.STAGE_COSTS``. Not a test: figures depend on the machine and its
+libraries.
 """
 
 from __future__ import annotations
@@ -108,13 +109,13 @@ def check(args: argparse.Namespace) -> None:
 
 # ------------------------------------------------------------------------------ calibration
 def _rss() -> int:
-    from blockmesh.memory import process_rss
+    from blockmesh._system.memory import process_rss
 
     return process_rss()
 
 
 def _stage_extra(run) -> int:
-    from blockmesh.memory import peak_rss, reset_peak_rss
+    from blockmesh._system.memory import peak_rss, reset_peak_rss
 
     gc.collect()
     before = _rss()
@@ -190,7 +191,10 @@ def calibrate(args: argparse.Namespace) -> None:
         else:
             per_cell, constant = extra[0] / cells[0], 0.0
         fitted.row(stage, f"{per_cell:.1f}", f"{constant / 1e6:.1f} MB")
-    fitted.note("The numbers of `blockmesh.memory.STAGE_COSTS`: update them when a writer changes.")
+    fitted.note(
+        "The numbers of `blockmesh.refinement.sizes.STAGE_COSTS`: update them when a writer "
+        "changes."
+    )
     page.write(args)
 
 
@@ -204,7 +208,7 @@ CALIBRATION = """\
 In one process: refine once per level, then run each stage (report, RCM, plots, every export
 format) with the peak resident set reset before it (`/proc/self/clear_refs`), and fit
 `extra = per_cell * cells + constant` over the levels: the figures of
-`blockmesh.memory.STAGE_COSTS`."""
+`blockmesh.refinement.sizes.STAGE_COSTS`."""
 
 
 def main() -> None:

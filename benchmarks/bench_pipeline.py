@@ -46,7 +46,7 @@ def wall(argv: list[str], repeat: int) -> float:
 
 def in_process(page: Page, repeat: int) -> None:
     import blockmesh
-    from blockmesh.measures import measure_cells
+    from blockmesh.mesh.measures import measure_cells
     from blockmesh.plot import plot_mesh, pyplot
 
     pyplot()

@@ -22,9 +22,9 @@ import numpy as np
 from _page import Page, add_arguments
 
 from blockmesh import load_domain
-from blockmesh.catalogue import catalogue_path
+from blockmesh.domain.catalogue import catalogue_path
 from blockmesh.geometry import interior_angles
-from blockmesh.improve import refine_with_rule
+from blockmesh.refinement.improve import refine_with_rule
 
 #: The catalogue domains given as polygons (issue 8's new ones).
 DOMAINS = [

@@ -22,9 +22,13 @@ import numpy as np
 from _page import Page, add_arguments
 
 import blockmesh
-from blockmesh.catalogue import catalogue_names
-from blockmesh.template import TEMPLATE_CACHE_BYTES, cached_template_bytes, pentagon_template
-from blockmesh.threads import default_threads
+from blockmesh._system.threads import default_threads
+from blockmesh.domain.catalogue import catalogue_names
+from blockmesh.refinement.template import (
+    TEMPLATE_CACHE_BYTES,
+    cached_template_bytes,
+    pentagon_template,
+)
 
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 

@@ -21,11 +21,15 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from blockmesh import _moved
+
+_moved.install()
+
 __version__ = "0.1.0"
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
-    "Domain": "domain",
+    "Domain": "domain.domain",
     "ArgumentError": "errors",
     "ArgumentTypeError": "errors",
     "BlockMeshError": "errors",
@@ -38,19 +42,19 @@ _EXPORTS = {
     "SolverError": "errors",
     "TopologyError": "errors",
     "UnknownNameError": "errors",
-    "exact_integral": "exact",
-    "parse_expression": "expr",
+    "exact_integral": "quadrature.exact",
+    "parse_expression": "numerics.expr",
     "read": "io",
     "write": "io",
-    "load_domain": "loading",
-    "parse_polygon_string": "loading",
-    "Mesh": "mesh",
-    "MeshQuality": "mesh",
+    "load_domain": "domain.loading",
+    "parse_polygon_string": "domain.loading",
+    "Mesh": "mesh.mesh",
+    "MeshQuality": "mesh.mesh",
     "IntegrationResult": "quadrature",
     "integrate": "quadrature",
     "integrate_to_tolerance": "quadrature",
     "quadrature_points": "quadrature",
-    "refine": "refinement",
+    "refine": "refinement.pipeline",
 }
 
 __all__ = [
@@ -99,8 +103,9 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the names as if imported eagerly
-    from .domain import Domain
-    from .errors import (
+    from blockmesh.domain.domain import Domain
+    from blockmesh.domain.loading import load_domain, parse_polygon_string
+    from blockmesh.errors import (
         ArgumentError,
         ArgumentTypeError,
         BlockMeshError,
@@ -114,15 +119,14 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the names as if imported eagerl
         TopologyError,
         UnknownNameError,
     )
-    from .exact import exact_integral
-    from .expr import parse_expression
-    from .io import read, write
-    from .loading import load_domain, parse_polygon_string
-    from .mesh import Mesh, MeshQuality
-    from .quadrature import (
+    from blockmesh.io import read, write
+    from blockmesh.mesh.mesh import Mesh, MeshQuality
+    from blockmesh.numerics.expr import parse_expression
+    from blockmesh.quadrature import (
         IntegrationResult,
         integrate,
         integrate_to_tolerance,
         quadrature_points,
     )
-    from .refinement import refine
+    from blockmesh.quadrature.exact import exact_integral
+    from blockmesh.refinement.pipeline import refine

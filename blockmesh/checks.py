@@ -27,7 +27,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from .errors import ArgumentError, ArgumentTypeError
+from blockmesh.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["choice", "readonly", "whole_number"]
 

@@ -23,9 +23,9 @@ import threading
 import warnings
 from collections.abc import Iterator, Sequence
 
-from . import __version__
-from .commands import SUMMARIES, load
-from .errors import BlockMeshError
+from blockmesh import __version__
+from blockmesh.commands import SUMMARIES, load
+from blockmesh.errors import BlockMeshError
 
 __all__ = ["Terminated", "build_parser", "main"]
 
@@ -85,7 +85,7 @@ def _signals_as_interrupts() -> Iterator[None]:
 
 def _remove_pending() -> None:
     """Remove temporaries a signal stranded between their creation and their ``try``."""
-    atomic = sys.modules.get("blockmesh.atomic")  # not imported: nothing was written
+    atomic = sys.modules.get("blockmesh._system.atomic")  # not imported: nothing was written
     if atomic is not None:
         atomic.remove_pending()
 
@@ -150,7 +150,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _printable(text: str) -> str:
-    from .commands._common import printable
+    from blockmesh.commands._common import printable
 
     return printable(text, keep="\n")
 

@@ -15,8 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_file
-from .errors import ExportError
+from blockmesh._system.atomic import atomic_file
+from blockmesh.errors import ExportError
+from blockmesh.refinement.sizes import DRAW_LIMIT
 
 __all__ = [
     "DRAW_LIMIT",
@@ -30,9 +31,6 @@ __all__ = [
 
 #: Meshes with at most this many cells get node and cell numbers (like the paper's Figs. 2-4).
 LABEL_LIMIT = 400
-#: Meshes with more cells than this are drawn as a picture of their cell density with the block
-#: outlines and patches: every polygon would be far below a pixel and take minutes to draw.
-DRAW_LIMIT = 200_000
 #: Pixels across the longer side of the cell-density picture (fewer when the largest cells
 #: are bigger than such a pixel).
 DENSITY_PIXELS = 800
@@ -258,7 +256,7 @@ def _largest_area(mesh) -> float:
     step = max(1, mesh.n_cells // 65536)
     xy = mesh.points[mesh.cells[::step]]
     xy -= xy[:, :1]
-    from .geometry import signed_area
+    from blockmesh.geometry.polygons import signed_area
 
     return 2.0 * float(signed_area(xy).max(initial=0.0))  # a sample can miss the largest
 
@@ -326,7 +324,7 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
 
     O(M) in chunks; the aspect ratios of all cells are kept (8 bytes per cell) for their bins.
     """
-    from .measures import cell_shapes
+    from blockmesh.mesh.measures import cell_shapes
 
     plt = pyplot()
     angle_bins = np.linspace(0.0, 180.0, 91)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from blockmesh.catalogue import catalogue_names, catalogue_path
 from blockmesh.cli import main
+from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 
 #: The catalogue domains with curved edges (their refined cells approach the curves, so the
 #: straight-edged invariants, area preserved and nodes on the block edges, do not apply to them).

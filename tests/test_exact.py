@@ -13,14 +13,9 @@ from hypothesis import strategies as st
 from sympy.integrals.intpoly import polytope_integrate
 
 import blockmesh
-from blockmesh.errors import (
-    ArgumentTypeError,
-    DomainError,
-    ExpressionError,
-    ResourceError,
-)
-from blockmesh.exact import as_polynomial, exact_integral
+from blockmesh.errors import ArgumentTypeError, DomainError, ExpressionError, ResourceError
 from blockmesh.mesh import Mesh
+from blockmesh.quadrature.exact import as_polynomial, exact_integral
 from blockmesh.refinement import refine
 from blockmesh.tables import CASES, PENTAGONS
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ExpressionError
-from blockmesh.expr import FUNCTIONS, MAX_LENGTH, Expression, parse_expression
+from blockmesh.numerics.expr import FUNCTIONS, MAX_LENGTH, Expression, parse_expression
 
 X = np.linspace(-1.7, 2.3, 11)
 Y = np.linspace(0.4, -2.9, 11)

@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from blockmesh.errors import BlockMeshError
-from blockmesh.expr import FUNCTIONS, parse_expression
+from blockmesh.numerics.expr import FUNCTIONS, parse_expression
 
 _TOKENS = [
     "x", "y", "pi", "e", "0", "1", "2", "0.5", "1e308", "1e-400", "9" * 40, "0x1F", "1_000",

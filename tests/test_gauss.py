@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError, BlockMeshError
-from blockmesh.gauss import MAX_POINTS, gauss_jacobi, gauss_legendre
+from blockmesh.numerics.gauss import MAX_POINTS, gauss_jacobi, gauss_legendre
 
 #: Relative error allowed for nodes and weights: one unit in the last place, about.
 ULP_TOL = 2e-16

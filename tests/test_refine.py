@@ -10,8 +10,8 @@ from paper_numbering import paper_cells
 import blockmesh
 from blockmesh import Domain, Mesh, ResourceError, refine
 from blockmesh.geometry import is_strictly_convex, signed_area
-from blockmesh.refinement import predict_size
-from blockmesh.topology import edge_keys
+from blockmesh.geometry.topology import edge_keys
+from blockmesh.refinement.sizes import predict_size
 
 LEVELS = range(5)
 
@@ -219,7 +219,7 @@ def test_from_cells_and_refine_of_a_plain_mesh():
 @pytest.mark.parametrize("threads", [1, 2])
 def test_running_out_of_memory_is_a_resource_error(catalogue, monkeypatch, threads):
     # In a worker thread too: the failure reaches the caller, the other threads stop.
-    import blockmesh.grouped_refinement as grouped
+    import blockmesh.refinement.grouped as grouped
 
     def exhausted(*args, **kwargs):
         raise MemoryError

@@ -12,11 +12,11 @@ from typing import Any
 
 import numpy as np
 
-from ..domain import Domain
-from ..errors import BlockMeshError, DomainFormatError, ExportError
-from ..loading import load_domain, parse_polygon_string
-from ..mesh import Mesh
-from ._progress import StageProgress
+from blockmesh.commands._progress import StageProgress
+from blockmesh.domain.domain import Domain
+from blockmesh.domain.loading import load_domain, parse_polygon_string
+from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
+from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
     "ProgressBar",
@@ -112,7 +112,7 @@ def is_mesh_file(name: str) -> bool:
     path = Path(name)
     if not path.exists():  # a catalogue name: the formats are not imported
         return False
-    from ..io import FORMATS
+    from blockmesh.io import FORMATS
 
     suffix = path.suffix.lower()
     extensions = {ext for fmt in FORMATS.values() if fmt.can_read for ext in fmt.extensions}
@@ -127,7 +127,7 @@ def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
     """
     if not is_mesh_file(name):
         return load_domain(name)
-    from ..io import read
+    from blockmesh.io import read
 
     try:
         with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..errors import BlockMeshError
+from blockmesh.errors import BlockMeshError
 
 __all__ = ["add_partition_arguments", "check_partition_arguments"]
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..catalogue import catalogue_names
-from ..loading import load_domain
-from ._common import print_json
+from blockmesh.commands._common import print_json
+from blockmesh.domain.catalogue import catalogue_names
+from blockmesh.domain.loading import load_domain
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..domain import Domain
-from ..io import SPLITS, write
-from ._common import check_folders, print_json
+from blockmesh.commands._common import check_folders, print_json
+from blockmesh.domain.domain import Domain
+from blockmesh.io import SPLITS, write
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     if output.suffix.lower() == ".toml" and args.format is None:
         if args.level:
-            from ..errors import ArgumentError
+            from blockmesh.errors import ArgumentError
 
             raise ArgumentError(
                 "a .toml output holds the blocks themselves; --level applies to mesh outputs"

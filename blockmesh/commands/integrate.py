@@ -9,17 +9,17 @@ from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any
 
-from ..errors import BlockMeshError, BlockMeshWarning, ResourceError
-from ..exact import exact_integral
-from ..mesh import Mesh
-from ..quadrature import (
+from blockmesh.commands._common import add_domain_arguments, print_json, printable, resolve_target
+from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.quadrature import (
     RULES,
     IntegrationResult,
     integrate_to_tolerance,
     integrate_with_estimate,
 )
-from ._common import add_domain_arguments, print_json, printable, resolve_target
-from ._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.quadrature.exact import exact_integral
 
 __all__ = ["register", "run"]
 
@@ -46,7 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         required=True,
         metavar="EXPR",
         help="f(x, y): numbers, x, y, pi, e, + - * / ^ (or **), and sin cos tan exp log sqrt abs "
-        "... (see blockmesh.expr.FUNCTIONS)",
+        "... (see blockmesh.numerics.expr.FUNCTIONS)",
     )
     parser.add_argument(
         "--level",
@@ -134,7 +134,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 **limits,
             )
         if check_partition_arguments(args):  # each worker integrates over its partition
-            from ..distributed import integrate_with_estimate as integrate_partitions
+            from blockmesh.distributed import integrate_with_estimate as integrate_partitions
 
             return integrate_partitions(
                 target, args.function, order=_DEFAULT_ORDER if args.order is None else args.order,

@@ -17,14 +17,8 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from ..domain import Domain
-from ..errors import BlockMeshError, ResourceError
-from ..improve import QUALITY_RULES, refine_with_rule
-from ..io import SPLITS, check_options, format_for_path
-from ..memory import check_fits, mesh_command_predictor, process_rss
-from ..mesh import Mesh
-from ..refinement import NUMBERINGS, available_memory, format_bytes, refine
-from ._common import (
+from blockmesh._system.memory import available_memory, format_bytes, process_rss
+from blockmesh.commands._common import (
     ProgressBar,
     add_domain_arguments,
     check_folders,
@@ -35,8 +29,15 @@ from ._common import (
     print_json,
     printable,
 )
-from ._partitions import add_partition_arguments, check_partition_arguments
-from ._progress import StageProgress
+from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.commands._progress import StageProgress
+from blockmesh.domain.domain import Domain
+from blockmesh.errors import BlockMeshError, ResourceError
+from blockmesh.io import SPLITS, check_options, format_for_path
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.pipeline import NUMBERINGS, refine
+from blockmesh.refinement.sizes import check_fits, mesh_command_predictor
 
 #: The level meshed when none is given (as ``blockmesh integrate``).
 DEFAULT_LEVEL = 2
@@ -75,7 +76,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="node placement: the paper's (default); optimized after every level, cell sizes "
         "made uniform; or angles: optimized after every level against the worst corners, cells "
         "keeping their sizes (for decomposed, graded domains). Every node off the boundary moves, "
-        "boundary nodes slide along it; see blockmesh.improve",
+        "boundary nodes slide along it; see blockmesh.refinement.improve",
     )
     parser.add_argument(
         "-o",
@@ -217,17 +218,17 @@ def _mesh_one(
         "output": None,
     }
     if options["plot"]:
-        from ..plot import plot_mesh
+        from blockmesh.plot import plot_mesh
 
         with _stage(progress, "drawing the mesh", prediction):
             report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], mesh)))
     if options["quality_plot"]:
-        from ..plot import plot_quality
+        from blockmesh.plot import plot_quality
 
         with _stage(progress, "drawing the quality histograms", prediction):
             report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
     if output:
-        from ..io import write
+        from blockmesh.io import write
 
         target_path = _fill(output, mesh)
         with _stage(progress, f"writing {target_path}", prediction):
@@ -341,8 +342,8 @@ def _run_partitioned(args: argparse.Namespace) -> int:
         if len(args.domain or []) != 1:
             raise BlockMeshError("--partitions meshes one domain at a time")
         target = load_target(args.domain[0], progress=StageProgress.wanted(args))
-    from .. import distributed
-    from ..distributed.files import pieces_dir
+    from blockmesh import distributed
+    from blockmesh.distributed.files import pieces_dir
 
     level = target.level + args.level if isinstance(target, Mesh) else args.level
     output = fill_template(args.output, name=target.name or "mesh", level=level)

@@ -4,9 +4,15 @@ from __future__ import annotations
 
 import argparse
 
-from ..mesh import Mesh
-from ..plot import plot_domain, plot_mesh
-from ._common import add_domain_arguments, plural, printable, resolve_target, safe_component
+from blockmesh.commands._common import (
+    add_domain_arguments,
+    plural,
+    printable,
+    resolve_target,
+    safe_component,
+)
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.plot import plot_domain, plot_mesh
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

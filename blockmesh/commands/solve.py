@@ -16,12 +16,17 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import BlockMeshError, SolverError
-from ..improve import QUALITY_RULES, refine_with_rule
-from ..vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
-from ..vem.fields import split_pair
-from ..vem.output import SOLUTION_FORMATS
-from ._common import add_domain_arguments, check_folders, print_json, resolve_domain
+from blockmesh.commands._common import (
+    add_domain_arguments,
+    check_folders,
+    print_json,
+    resolve_domain,
+)
+from blockmesh.errors import BlockMeshError, SolverError
+from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
+from blockmesh.vem.fields import split_pair
+from blockmesh.vem.output import SOLUTION_FORMATS
 
 __all__ = ["register", "run"]
 
@@ -190,7 +195,7 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
 
 
 def _nodal_error(solution, exact: str, equation: str) -> np.ndarray:
-    from ..vem.fields import scalar_field
+    from blockmesh.vem.fields import scalar_field
 
     x, y = solution.mesh.points.T
     if equation == "poisson":
@@ -242,11 +247,11 @@ def run(args: argparse.Namespace) -> int:
         report.update(errors.as_dict())
         extra["error"] = _nodal_error(solution, args.exact, args.equation)
     if args.output:
-        from ..vem.output import write_solution
+        from blockmesh.vem.output import write_solution
 
         report["output"] = str(write_solution(solution, args.output, extra_point_data=extra))
     if args.plot:
-        from ..vem.plot import plot_solution
+        from blockmesh.vem.plot import plot_solution
 
         report["plot"] = str(plot_solution(solution, args.plot))
     if args.json:

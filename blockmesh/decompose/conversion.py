@@ -42,10 +42,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import BlockMeshError, BlockMeshWarning, DomainError, DomainFormatError
-from ..geometry import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
-from .optimise import improve_angles
-from .pieces import pentagons_from_pieces
+from blockmesh.decompose.optimise import improve_angles
+from blockmesh.decompose.pieces import pentagons_from_pieces
+from blockmesh.errors import BlockMeshError, BlockMeshWarning, DomainError, DomainFormatError
+from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
 
 __all__ = ["convert_mesh", "read_element_mesh"]
 
@@ -76,14 +76,14 @@ def read_element_mesh(source: Any) -> Any:
     """
     import meshio
 
-    from ..mesh import Mesh
+    from blockmesh.mesh.mesh import Mesh
 
     if isinstance(source, meshio.Mesh | Mesh):
         return source
     path = Path(source)
     if not path.exists():
         raise DomainFormatError(f"{path}: no such file")
-    from .. import io as blockmesh_io
+    from blockmesh import io as blockmesh_io
 
     try:
         return blockmesh_io.read(path)
@@ -162,8 +162,8 @@ def convert_mesh(source: Any, *, name: str | None = None, description: str = "")
         Layout ``"mesh"`` when the elements are the blocks (all strictly convex pentagons),
         ``"conversion"`` when they went through the templates.
     """
-    from ..domain import Domain
-    from ..mesh import Mesh
+    from blockmesh.domain.domain import Domain
+    from blockmesh.mesh.mesh import Mesh
 
     mesh = read_element_mesh(source)
     label = str(source) if isinstance(source, str | Path) else "the mesh"
@@ -180,7 +180,7 @@ def convert_mesh(source: Any, *, name: str | None = None, description: str = "")
 
 def _from_pentagon_mesh(mesh: Any, name: str, description: str) -> Any:
     """A blockmesh Mesh read back: its cells are the blocks, its patches and regions kept."""
-    from ..domain import Domain
+    from blockmesh.domain.domain import Domain
 
     patches = {
         patch: mesh.boundary_edges[mesh.boundary_patch == k].tolist()

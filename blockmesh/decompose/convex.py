@@ -39,14 +39,19 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import DomainError
-from ..geometry import (
+from blockmesh.decompose.templates import (
+    SQUARE_FACES,
+    TRIANGLE_FACES,
+    TRIANGLE_WEIGHTS,
+    square_weights,
+)
+from blockmesh.errors import DomainError
+from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,
     interior_angles,
     is_strictly_convex,
     polygon_diameter,
 )
-from .templates import SQUARE_FACES, TRIANGLE_FACES, TRIANGLE_WEIGHTS, square_weights
 
 __all__ = ["Decomposition", "decompose_convex_polygon"]
 
@@ -151,7 +156,7 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     n = len(p)
     if n > _CHORD_LIMIT:
         # The chord programme is O(n^5): beyond its limit the quality triangulation takes over.
-        from .polygon import decompose_polygon
+        from blockmesh.decompose.polygon import decompose_polygon
 
         return decompose_polygon([p])
     if n == 3:

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import COLLINEAR_SIN_TOL
+from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
 
 __all__ = ["improve_angles", "worst_score"]
 

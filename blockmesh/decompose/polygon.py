@@ -1,6 +1,6 @@
 """Any polygon with holes to strictly convex pentagonal blocks: the decomposition's front door.
 
-:func:`decompose_polygon` takes validated rings (:func:`blockmesh.validate.check_rings`) and
+:func:`decompose_polygon` takes validated rings (:func:`blockmesh.domain.validate.check_rings`) and
 chooses the route:
 
 - a strictly convex polygon without holes and with at most :data:`CONVEX_LIMIT` corners goes to the
@@ -36,13 +36,18 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..errors import DomainError, ResourceError
-from ..geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, local_frame
-from .convex import _CHORD_LIMIT, Decomposition, decompose_convex_polygon
-from .merge import pair_triangles
-from .optimise import improve_angles
-from .pieces import pentagons_from_pieces
-from .triangulate import DEFAULT_MIN_ANGLE, triangulate
+from blockmesh.decompose.convex import _CHORD_LIMIT, Decomposition, decompose_convex_polygon
+from blockmesh.decompose.merge import pair_triangles
+from blockmesh.decompose.optimise import improve_angles
+from blockmesh.decompose.pieces import pentagons_from_pieces
+from blockmesh.decompose.triangulate import DEFAULT_MIN_ANGLE, triangulate
+from blockmesh.errors import DomainError, ResourceError
+from blockmesh.geometry.polygons import (
+    COLLINEAR_SIN_TOL,
+    corner_sines,
+    interior_angles,
+    local_frame,
+)
 
 __all__ = ["CONVEX_LIMIT", "CONVEX_MIN_ANGLE", "MAX_CORNERS", "decompose_polygon"]
 
@@ -63,7 +68,7 @@ def decompose_polygon(
     ----------
     rings : sequence of ndarray (n_r, 2)
         The outer ring counter-clockwise, then the holes clockwise, as
-        :func:`blockmesh.validate.check_rings` returns them.
+        :func:`blockmesh.domain.validate.check_rings` returns them.
     min_angle : float
         Target smallest angle of the quality triangulation (degrees) for the general route.
 

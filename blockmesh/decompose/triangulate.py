@@ -34,8 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ..errors import DomainError
-from ..geometry import interior_angles
+from blockmesh.errors import DomainError
+from blockmesh.geometry.polygons import interior_angles
 
 __all__ = ["Triangulation", "triangulate"]
 
@@ -85,7 +85,7 @@ def triangulate(
     rings : sequence of ndarray (n_r, 2)
         The outer ring first, counter-clockwise, then the holes, clockwise (the domain on the left
         of every edge); simple, disjoint and nested as validated by
-        :func:`blockmesh.validate.check_rings`.
+        :func:`blockmesh.domain.validate.check_rings`.
     min_angle : float
         Target smallest angle in degrees (at most 33; 0 skips the refinement).
     max_points : int, optional

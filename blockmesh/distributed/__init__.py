@@ -47,12 +47,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..atomic import atomic_file, check_target
-from ..checks import whole_number
-from ..errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
-from ..mesh import Mesh, MeshQuality
-from ..template import node_count
-from .files import (
+from blockmesh._system.atomic import atomic_file, check_target
+from blockmesh._system.procfs import umask
+from blockmesh.checks import whole_number
+from blockmesh.distributed.files import (
     INDEX_SUFFIXES,
     piece_name,
     pieces_dir,
@@ -61,12 +59,15 @@ from .files import (
     write_pvtu_index,
     write_xdmf_index,
 )
-from .partition import Partitioning, partition
-from .pieces import piece_node_count
-from .tasks import integrate_piece_task, write_piece_task
+from blockmesh.distributed.partition import Partitioning, partition
+from blockmesh.distributed.pieces import piece_node_count
+from blockmesh.distributed.tasks import integrate_piece_task, write_piece_task
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
+from blockmesh.mesh.mesh import Mesh, MeshQuality
+from blockmesh.refinement.template import node_count
 
 if TYPE_CHECKING:
-    from ..domain import Domain
+    from blockmesh.domain.domain import Domain
 
 __all__ = [
     "PartitionedMesh",
@@ -252,7 +253,7 @@ def _check_workers(parts: Partitioning, client: Any) -> None:
     if not limits:
         return
     limit = min(limits)
-    from ..refinement import format_bytes
+    from blockmesh._system.memory import format_bytes
 
     needs = [predict_task_bytes(parts, p) for p in range(parts.n_partitions)]
     worst = int(np.argmax(needs))
@@ -339,7 +340,7 @@ def _commit(folder: Path, index: Path, write_index: Callable[[Path], Any]) -> No
         os.rmdir(old)
         os.rename(target, old)
     try:
-        os.chmod(folder, 0o777 & ~_umask())
+        os.chmod(folder, 0o777 & ~umask())
         os.rename(folder, target)
         with atomic_file(index) as temporary:
             write_index(temporary)
@@ -351,17 +352,6 @@ def _commit(folder: Path, index: Path, write_index: Callable[[Path], Any]) -> No
         raise
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
-
-
-def _umask() -> int:
-    try:
-        with open("/proc/self/status", encoding="ascii") as status:
-            for line in status:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except OSError:
-        pass
-    return 0o022
 
 
 def refine_to(
@@ -489,8 +479,8 @@ def integrate_with_estimate(
     -------
     IntegrationResult
     """
-    from ..quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
-    from ..refinement import format_count
+    from blockmesh._system.memory import format_count
+    from blockmesh.quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
 
     if level is None:
         steps = 0

@@ -9,7 +9,7 @@ Layout, for an index ``out.pvtu`` (or ``out.xdmf``)::
 
 **VTU pieces** are VTK XML unstructured grids with raw appended binary data (``header_type
 UInt64``, little endian), written array by array in bounded chunks: polygon cells followed by the
-piece's boundary edges as line cells, the cell data of :mod:`blockmesh.io.vtu` (``block_id``,
+piece's boundary edges as line cells, the cell data of :mod:`blockmesh.io.vtu.format` (``block_id``,
 ``region``, ``parent``, ``patch``; -1 where they do not apply) plus ``boundary_order`` (the
 position of a line in the whole mesh's boundary list), and the point data ``GlobalNodeIds``
 (Int64, the node's id in the whole mesh) and ``vtkGhostType`` (UInt8, 1 = a duplicate of a node
@@ -22,7 +22,7 @@ merges the pieces seamlessly.
 one polygon grid and one polyline grid per piece.
 
 Every piece and the index carry a JSON attribute ``blockmesh``: the names, level and mesh name
-(as :func:`blockmesh.io._common.encode_metadata`), and the piece's place in the whole.
+(as :func:`blockmesh.io.common.encode_metadata`), and the piece's place in the whole.
 
 Examples
 --------
@@ -48,9 +48,9 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..errors import ExportError
-from ..mesh import Mesh
-from .pieces import Piece
+from blockmesh.distributed.pieces import Piece
+from blockmesh.errors import ExportError
+from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
     "INDEX_SUFFIXES",

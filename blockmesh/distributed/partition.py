@@ -7,7 +7,7 @@ them): refining the level-``k`` mesh ``L - k`` more times gives exactly the mesh
 numbering and coordinates included, so nothing changes but the grain. ``k`` is also kept at
 least ``L - MAX_TASK_STEPS``, so that a task's template of the remaining levels stays small.
 
-Global ids need no communication: the numbering plan (:mod:`blockmesh.blockplan`) gives every
+Global ids need no communication: the numbering plan (:mod:`blockmesh.refinement.plan`) gives every
 unit's ids from prefix sums of per-unit counts, and the cells are unit-major, so partition ``p``
 owns the contiguous cells ``first_cell(p) .. first_cell(p + 1) - 1``. A node on an edge between
 two partitions belongs to the partition of the lower unit (which numbers it, as the serial walk
@@ -32,15 +32,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..blockplan import RefinementPlan, plan_refinement
-from ..checks import whole_number
-from ..errors import ArgumentError
-from ..mesh import Mesh
-from ..refinement import refine
-from ..topology import boundary_slots, cell_neighbours
+from blockmesh.checks import whole_number
+from blockmesh.errors import ArgumentError
+from blockmesh.geometry.topology import boundary_slots, cell_neighbours
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.pipeline import refine
+from blockmesh.refinement.plan import RefinementPlan, plan_refinement
 
 if TYPE_CHECKING:
-    from ..domain import Domain
+    from blockmesh.domain.domain import Domain
 
 __all__ = ["MAX_TASK_STEPS", "Partitioning", "partition"]
 

@@ -14,7 +14,7 @@ npz         .npz                  NumPy archive of every array (lossless)
 
 The format is taken from ``format=`` when given, else from the path: its extension, or
 ``openfoam`` for a path named ``polyMesh`` or an existing directory. Every writer is atomic (see
-:mod:`blockmesh.atomic`): output goes to a temporary name in the target directory and is
+:mod:`blockmesh._system.atomic`): output goes to a temporary name in the target directory and is
 committed by one rename, so a failure, Ctrl-C or kill never leaves a truncated file or a mixed
 pair and never destroys an old output. Every problem the user can fix, a full disk or a
 read-only folder included, raises :class:`~blockmesh.errors.ExportError`.
@@ -49,11 +49,11 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..atomic import as_path
-from ..errors import BlockMeshError, ExportError
-from ..mesh import Mesh
-from ._common import Format, check_mesh
-from .split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
+from blockmesh._system.atomic import as_path
+from blockmesh.errors import BlockMeshError, ExportError
+from blockmesh.io.common import Format, check_mesh
+from blockmesh.io.split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
+from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
     "FORMATS",
@@ -71,7 +71,7 @@ __all__ = [
 
 #: The format modules, in the order of the table above: each defines ``FORMAT``. They are
 #: imported when a format is first needed (a command that writes nothing does not pay for them).
-_MODULES = ("vtu", "legacy_vtk", "xdmf", "msh", "mat", "openfoam", "npz")
+_MODULES = ("vtu", "vtk", "xdmf", "msh", "mat", "openfoam", "npz")
 
 if TYPE_CHECKING:
     #: The formats, by name (the ``format=`` names), in the order of the table above.
@@ -81,7 +81,7 @@ if TYPE_CHECKING:
 @functools.cache
 def _registry() -> tuple[dict[str, Format], dict[str, Format]]:
     """The formats by name and by extension, their modules imported on the first call."""
-    modules = [importlib.import_module(f".{name}", __name__) for name in _MODULES]
+    modules = [importlib.import_module(f".{name}.format", __name__) for name in _MODULES]
     by_name = {m.FORMAT.name: m.FORMAT for m in modules}
     by_extension = {ext: fmt for fmt in by_name.values() for ext in fmt.extensions}
     return by_name, by_extension

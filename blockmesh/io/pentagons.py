@@ -32,8 +32,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ExportError
-from ..topology import edge_keys
+from blockmesh.errors import ExportError
+from blockmesh.geometry.topology import edge_keys
 
 __all__ = ["Merged", "join_lines", "merge_elements"]
 

@@ -12,10 +12,10 @@ Three splits, each keeping every pentagon's children together and counter-clockw
     its edge, so the split mesh is conforming; boundary edges split into two lines.
 
 New nodes are appended after the mesh's own: for ``quad5`` first the edge midpoints (in the
-order of :func:`blockmesh.topology.unique_edges`), then the centres (in cell order); for ``tri5``
-the centres.
-Element ``k`` of cell ``p`` is row ``n * p + k`` (``n`` = 5 or 3), and its first node is corner 0
-of ``p`` when ``k = 0`` — which lets a reader rebuild each pentagon with its own corner order.
+order of :func:`blockmesh.geometry.topology.unique_edges`), then the centres (in cell order); for
+``tri5`` the centres. Element ``k`` of cell ``p`` is row ``n * p + k`` (``n`` = 5 or 3), and its
+first node is corner 0 of ``p`` when ``k = 0`` — which lets a reader rebuild each pentagon with its
+own corner order.
 
 Examples
 --------
@@ -34,9 +34,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ExportError
-from ..mesh import Mesh
-from ..topology import edge_index, edge_keys
+from blockmesh.errors import ExportError
+from blockmesh.geometry.topology import edge_index, edge_keys
+from blockmesh.mesh.mesh import Mesh
 
 __all__ = ["SPLITS", "SplitBoundary", "SplitCells", "split_boundary", "split_cells"]
 

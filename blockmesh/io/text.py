@@ -31,8 +31,8 @@ from typing import BinaryIO, Protocol
 
 import numpy as np
 
-from ..doubledouble import two_prod
-from ..errors import ExportError
+from blockmesh.errors import ExportError
+from blockmesh.numerics.doubledouble import two_prod
 
 __all__ = ["TextReader", "float_bytes", "int_bytes", "parse_numbers", "write_rows"]
 

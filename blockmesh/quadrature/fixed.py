@@ -22,22 +22,29 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..curved_quadrature import exact_sums
-from ..errors import ArgumentTypeError, BlockMeshWarning
-from ..mesh import Mesh
-from .arguments import (
+from blockmesh.errors import ArgumentTypeError, BlockMeshWarning
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.quadrature.arguments import (
     Integrand,
     check_chunk,
     check_integrand,
     check_max_points,
     check_nonnegative,
 )
-from .estimate import null_rule
-from .kernel import DEFAULT_CHUNK, cell_sums, chunks, scaled_sum, straight_tables, total_of
-from .registry import get_rule, order_of
-from .result import IntegrationResult
-from .rule import Rule
-from .targets import DEFAULT_MAX_POINTS, MeshPlan, check_work, plan_mesh
+from blockmesh.quadrature.curved import exact_sums
+from blockmesh.quadrature.estimate import null_rule
+from blockmesh.quadrature.kernel import (
+    DEFAULT_CHUNK,
+    cell_sums,
+    chunks,
+    scaled_sum,
+    straight_tables,
+    total_of,
+)
+from blockmesh.quadrature.registry import get_rule, order_of
+from blockmesh.quadrature.result import IntegrationResult
+from blockmesh.quadrature.rule import Rule
+from blockmesh.quadrature.targets import DEFAULT_MAX_POINTS, MeshPlan, check_work, plan_mesh
 
 __all__ = [
     "DEFAULT_WARN_RTOL",
@@ -96,7 +103,7 @@ def integrate(
         A Mesh is used as it is, or refined further when ``level`` is above its own level.
     f : callable or str
         A vectorised ``f(x, y)`` (numpy arrays in, an array of the same shape or a scalar out)
-        or an expression string (see :func:`blockmesh.expr.parse_expression`).
+        or an expression string (see :func:`blockmesh.numerics.expr.parse_expression`).
     order : int
         The rule's order n: exact for polynomials of total degree ``2n - 1``.
     level : int, optional
@@ -113,7 +120,7 @@ def integrate(
         ``|integral|``; ``None`` skips the estimate (slightly faster, no warning).
     exact_geometry : bool
         Integrate the cells with curved edges over their true curved shape
-        (:mod:`blockmesh.curved_quadrature`) instead of their straight cells; no effect on a
+        (:mod:`blockmesh.quadrature.curved`) instead of their straight cells; no effect on a
         mesh without curves.
 
     Returns

@@ -36,8 +36,8 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
-from ..checks import choice
-from ..errors import ArgumentError, SolverError
+from blockmesh.checks import choice
+from blockmesh.errors import ArgumentError, SolverError
 
 __all__ = [
     "SOLVERS",

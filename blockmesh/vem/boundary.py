@@ -28,10 +28,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ArgumentTypeError, SolverError
-from .fields import Field, free_vector_field, scalar_field, vector_field
-from .polygons import PolygonMesh
-from .rules import edge_rule
+from blockmesh.errors import ArgumentTypeError, SolverError
+from blockmesh.vem.fields import Field, free_vector_field, scalar_field, vector_field
+from blockmesh.vem.polygons import PolygonMesh
+from blockmesh.vem.rules import edge_rule
 
 __all__ = ["BoundaryConditions", "PatchCondition", "boundary_conditions"]
 

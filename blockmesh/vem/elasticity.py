@@ -34,16 +34,16 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import choice
-from ..errors import ArgumentError, SolverError
-from .assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from .boundary import boundary_conditions
-from .fields import Field, vector_field
-from .norms import ErrorNorms, error_norms
-from .polygons import PolygonMesh, as_polygon_mesh
-from .projections import Projections, projections
-from .rules import cell_chunks, cell_rule, check_order, points_per_cell
-from .stabilization import check_scale, check_stabilization, stabilize
+from blockmesh.checks import choice
+from blockmesh.errors import ArgumentError, SolverError
+from blockmesh.vem.assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
+from blockmesh.vem.boundary import boundary_conditions
+from blockmesh.vem.fields import Field, vector_field
+from blockmesh.vem.norms import ErrorNorms, error_norms
+from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
+from blockmesh.vem.projections import Projections, projections
+from blockmesh.vem.rules import cell_chunks, cell_rule, check_order, points_per_cell
+from blockmesh.vem.stabilization import check_scale, check_stabilization, stabilize
 
 __all__ = ["PLANES", "ElasticitySolution", "elasticity_matrix", "solve_elasticity"]
 

@@ -22,10 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..plot import pyplot, save_figure
-from .elasticity import ElasticitySolution
-from .poisson import PoissonSolution
-from .polygons import PolygonMesh
+from blockmesh.plot import pyplot, save_figure
+from blockmesh.vem.elasticity import ElasticitySolution
+from blockmesh.vem.poisson import PoissonSolution
+from blockmesh.vem.polygons import PolygonMesh
 
 __all__ = ["plot_solution"]
 

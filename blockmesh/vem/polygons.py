@@ -30,11 +30,11 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import readonly
-from ..errors import ArgumentError, ArgumentTypeError, TopologyError, UnknownNameError
-from ..geometry import signed_area
-from ..mesh import Mesh
-from ..topology import boundary_of_cells, edge_keys
+from blockmesh.checks import readonly
+from blockmesh.errors import ArgumentError, ArgumentTypeError, TopologyError, UnknownNameError
+from blockmesh.geometry.polygons import signed_area
+from blockmesh.geometry.topology import boundary_of_cells, edge_keys
+from blockmesh.mesh.mesh import Mesh
 
 __all__ = ["CellGroup", "PolygonMesh"]
 

@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..checks import choice
-from ..errors import ArgumentError
+from blockmesh.checks import choice
+from blockmesh.errors import ArgumentError
 
 __all__ = ["STABILIZATIONS", "check_scale", "check_stabilization", "stabilize"]
 

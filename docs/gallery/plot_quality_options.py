@@ -16,7 +16,7 @@ import numpy as np
 
 import blockmesh
 from blockmesh.geometry import interior_angles
-from blockmesh.improve import refine_with_rule
+from blockmesh.refinement.improve import refine_with_rule
 
 domain = blockmesh.load_domain("star")
 level = 2

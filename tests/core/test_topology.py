@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 import blockmesh
 from blockmesh.errors import TopologyError
-from blockmesh.topology import (
+from blockmesh.geometry.topology import (
     boundary_loops,
     boundary_of_cells,
     boundary_slots,

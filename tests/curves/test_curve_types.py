@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from blockmesh.curves import Arc, CurvedEdges, Polyline, Spline, curve_from_fields
+from blockmesh.curves import Arc, Polyline, Spline, curve_from_fields
+from blockmesh.curves.edges import CurvedEdges
 from blockmesh.errors import ArgumentError, DomainError, DomainFormatError
 
 T = np.linspace(0, 1, 41)

@@ -14,10 +14,10 @@ from helpers import run_cli
 
 import blockmesh
 from blockmesh import Domain
-from blockmesh.curved_quadrature import along_points, curved_cells
 from blockmesh.curves import Arc, Polyline, Spline
 from blockmesh.errors import ArgumentTypeError, ExpressionError
 from blockmesh.quadrature import RULES, integrate_cells
+from blockmesh.quadrature.curved import along_points, curved_cells
 
 MONOMIALS = [(a, b) for a in range(9) for b in range(9 - a)]  # every degree up to 8
 EXACT_DOMAINS = ["plate-hole", "disc", "annulus"]

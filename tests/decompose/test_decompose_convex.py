@@ -16,8 +16,9 @@ import shapely
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from blockmesh.decompose import Decomposition, decompose_convex_polygon, templates
-from blockmesh.decompose import convex as decompose
+import blockmesh.decompose.convex as decompose
+import blockmesh.decompose.templates as templates
+from blockmesh.decompose import Decomposition, decompose_convex_polygon
 from blockmesh.errors import DomainError
 from blockmesh.geometry import (
     corner_sines,

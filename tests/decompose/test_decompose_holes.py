@@ -22,8 +22,8 @@ from hypothesis import strategies as st
 
 from blockmesh import BlockMeshWarning, Domain
 from blockmesh.geometry import is_strictly_convex
-from blockmesh.refinement import predict_size
-from blockmesh.topology import edge_keys
+from blockmesh.geometry.topology import edge_keys
+from blockmesh.refinement.sizes import predict_size
 
 SETTINGS = settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 MANY = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])

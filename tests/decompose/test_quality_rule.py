@@ -17,7 +17,7 @@ from helpers import run_cli
 from blockmesh import Domain, load_domain
 from blockmesh.errors import ArgumentError
 from blockmesh.geometry import is_strictly_convex
-from blockmesh.improve import optimize_nodes, refine_with_rule
+from blockmesh.refinement.improve import optimize_nodes, refine_with_rule
 
 OUTLINE = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
 PATCHES = {"outlet": [1], "inlet": [4], "walls": [0, 2, 3, 5]}

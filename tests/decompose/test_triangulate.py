@@ -9,8 +9,8 @@ from helpers import polygon_with_holes
 from hypothesis import HealthCheck, given, settings
 
 from blockmesh.decompose.triangulate import triangulate
+from blockmesh.domain.validate import check_rings
 from blockmesh.geometry import interior_angles, local_frame, signed_area
-from blockmesh.validate import check_rings
 
 
 def rings_of(outer, holes):

@@ -18,8 +18,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import blockmesh
-from blockmesh import BlockMeshError, Domain, DomainError, DomainFormatError, ResourceError, tomlio
-from blockmesh.decompose import polygon as polygon_route
+import blockmesh.decompose.polygon as polygon_route
+import blockmesh.domain.tomlio as tomlio
+from blockmesh import BlockMeshError, Domain, DomainError, DomainFormatError, ResourceError
 
 
 @pytest.mark.parametrize(

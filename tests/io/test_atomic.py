@@ -1,4 +1,4 @@
-"""blockmesh.atomic: one-rename commits, stale temporaries, OS errors as ExportError."""
+"""blockmesh._system.atomic: one-rename commits, stale temporaries, OS errors as ExportError."""
 
 from __future__ import annotations
 
@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 from helpers_io import listing, patch_atomic_os, sp_mesh
 
+import blockmesh._system.atomic as atomic
 import blockmesh.io as bio
-from blockmesh import atomic
 from blockmesh.errors import ExportError
 
 

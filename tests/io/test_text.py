@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import blockmesh.io.text as text
 from blockmesh.errors import ExportError
-from blockmesh.io import text
 
 
 @settings(max_examples=60, deadline=None)

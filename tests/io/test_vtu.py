@@ -10,8 +10,9 @@ import pytest
 from helpers_io import assert_same, expected_names, paraview_names, tagged, vtk_connectivity
 
 import blockmesh.io as bio
+import blockmesh.io.vtu.format as vtu
+import blockmesh.io.vtu.stream as vtu_stream
 from blockmesh.errors import ExportError
-from blockmesh.io import vtu, vtu_stream
 from blockmesh.mesh import Mesh
 
 

@@ -246,7 +246,7 @@ KILLED = """
 import os, sys
 sys.path.insert(0, {tests!r})
 import blockmesh.io as bio
-from blockmesh import atomic
+from blockmesh._system import atomic
 from helpers_io import tagged
 real, calls = os.replace, []
 def replace(src, dst):

@@ -10,16 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from blockmesh.errors import ArgumentTypeError, UnknownNameError
-from blockmesh.exact import exact_integral
 from blockmesh.mesh import Mesh
-from blockmesh.quadrature import (
-    RULES,
-    Rule,
-    get_rule,
-    integrate,
-    quadrature_points,
-    rule_info,
-)
+from blockmesh.quadrature import RULES, Rule, get_rule, integrate, quadrature_points, rule_info
+from blockmesh.quadrature.exact import exact_integral
 from blockmesh.quadrature.layouts import CENTRE
 from blockmesh.quadrature.paper import RULE as PAPER
 from blockmesh.tables import PENTAGONS

@@ -2,9 +2,10 @@
 
 The reference walks every cell level by level with Python loops (numbering: the paper's
 ``nodaladdressesforpentagon``; coordinates: the paper's arithmetic on whole arrays), independently
-of :mod:`blockmesh.template`, :mod:`blockmesh.blockplan` and :mod:`blockmesh.grouped_refinement`.
-The fast path is compared with it bit for bit under every way of cutting the work: blocks refined
-one by one or in groups, the base refined first and its cells used as blocks, one or more threads.
+of :mod:`blockmesh.refinement.template`, :mod:`blockmesh.refinement.plan` and
+:mod:`blockmesh.refinement.grouped`. The fast path is compared with it bit for bit under every way
+of cutting the work: blocks refined one by one or in groups, the base refined first and its cells
+used as blocks, one or more threads.
 """
 
 from __future__ import annotations
@@ -15,9 +16,10 @@ from helpers import CATALOGUE
 from paper_numbering import paper_cells
 
 import blockmesh
-import blockmesh.grouped_refinement as grouped
-import blockmesh.template as template
-from blockmesh.blockplan import (
+import blockmesh.refinement.grouped as grouped
+import blockmesh.refinement.template as template
+from blockmesh.geometry.topology import cell_neighbours
+from blockmesh.refinement.plan import (
     block_node_ids,
     edge_id_table,
     edge_node_ids,
@@ -25,7 +27,6 @@ from blockmesh.blockplan import (
     node_pattern,
     plan_refinement,
 )
-from blockmesh.topology import cell_neighbours
 
 STRAIGHT = [
     name for name in CATALOGUE if not len(blockmesh.load_domain(name).block_mesh().curves or ())
@@ -154,7 +155,7 @@ def test_threads_must_be_a_whole_number_of_at_least_one(catalogue):
 
 
 def test_default_threads_follow_the_environment(monkeypatch):
-    from blockmesh.threads import MAX_THREADS, default_threads
+    from blockmesh._system.threads import MAX_THREADS, default_threads
 
     monkeypatch.setenv("BLOCKMESH_THREADS", "3")
     assert default_threads() == 3

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import blockmesh
 from blockmesh.errors import TopologyError
-from blockmesh.topology import boundary_slots, cell_neighbours, check_boundary
+from blockmesh.geometry.topology import boundary_slots, cell_neighbours, check_boundary
 
 
 def test_check_boundary_peak_is_below_the_mesh():

@@ -9,8 +9,8 @@ import pytest
 from helpers import run_cli
 
 import blockmesh.commands._progress as progress_module
+from blockmesh._system.memory import process_rss
 from blockmesh.commands._progress import StageProgress
-from blockmesh.memory import process_rss
 
 
 def test_json_reports_the_predicted_peak(capsys, tmp_path):

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 import blockmesh
 from blockmesh import DomainError, Mesh
 from blockmesh.geometry import COLLINEAR_SIN_TOL, corner_sines, interior_angles, signed_area
-from blockmesh.measures import CHUNK, measure_cells, signed_areas
+from blockmesh.mesh.measures import CHUNK, measure_cells, signed_areas
 
 
 def _plain(mesh: Mesh) -> dict[str, float]:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blockmesh.plot as plot
-from blockmesh.topology import cell_neighbours, edge_keys
+from blockmesh.geometry.topology import cell_neighbours, edge_keys
 
 
 @pytest.mark.parametrize("name", ["joined-8", "l-shape", "ring", "triangle", "square-cut"])

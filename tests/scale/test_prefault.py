@@ -8,7 +8,7 @@ import threading
 import numpy as np
 import pytest
 
-from blockmesh.prefault import Prefault, populate
+from blockmesh._system.prefault import Prefault, populate
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="MADV_POPULATE_WRITE is Linux")

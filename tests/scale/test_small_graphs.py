@@ -8,7 +8,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from blockmesh import topology, validate
+import blockmesh.domain.validate as validate
+import blockmesh.geometry.topology as topology
 
 
 @pytest.mark.parametrize("seed", range(20))

@@ -33,8 +33,7 @@ def test_help_and_version_import_nothing_heavy(argv):
 
 
 FORMAT_MODULES = [
-    f"blockmesh.io.{name}"
-    for name in ("vtu", "legacy_vtk", "xdmf", "msh", "mat", "openfoam", "npz")
+    f"blockmesh.io.{name}" for name in ("vtu", "vtk", "xdmf", "msh", "mat", "openfoam", "npz")
 ]
 
 MODULES_PROBE = """
@@ -100,7 +99,7 @@ def test_summaries_are_the_registered_help(name):
 def test_load_domain_imports_no_scipy():
     code = (
         "import sys, blockmesh\n"
-        "from blockmesh.catalogue import catalogue_names\n"
+        "from blockmesh.domain.catalogue import catalogue_names\n"
         "for name in catalogue_names():\n"
         "    blockmesh.load_domain(name)\n"
         "print(sorted({m.split('.')[1] for m in sys.modules if m.startswith('scipy.')}))"

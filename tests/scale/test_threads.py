@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from blockmesh.threads import run_parallel
+from blockmesh._system.threads import run_parallel
 
 
 @pytest.mark.parametrize("threads", [1, 2, 5])

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blockmesh
-from blockmesh.catalogue import catalogue_names
+from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.errors import ArgumentError, SolverError, UnknownNameError
 from blockmesh.geometry import signed_area
 from blockmesh.vem import PolygonMesh, elasticity_matrix, solve_elasticity

@@ -1,4 +1,4 @@
-"""Node placement (blockmesh.improve): invariants on every catalogue domain, nesting, bad input."""
+"""Node placement (blockmesh.refinement.improve): catalogue invariants, nesting, bad input."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from helpers import CATALOGUE
 import blockmesh
 from blockmesh.errors import ArgumentError, ArgumentTypeError
 from blockmesh.geometry import is_strictly_convex
-from blockmesh.improve import (
+from blockmesh.refinement.improve import (
     inner_point_rule,
     optimize_nodes,
     refine_with_rule,

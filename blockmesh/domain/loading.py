@@ -1,0 +1,217 @@
+"""Where domains come from: catalogue names, domain files, map outlines, meshes, inline polygons.
+
+:func:`load_domain` turns what a user names on the command line or in a script into a
+:class:`~blockmesh.domain.Domain`:
+
+=================================== ===========================================================
+``NAME``                            a catalogue domain (``blockmesh catalogue`` lists them)
+``FILE.toml``                       a domain file (polygon with holes, or explicit blocks)
+``FILE.wkt``                        one Polygon in Well-Known Text (holes as its interior rings)
+``FILE.geojson`` / ``FILE.json``    one Polygon (a geometry, a Feature or a collection of one);
+                                    the feature's ``properties`` may hold ``name``,
+                                    ``description`` and ``patches`` (as in a domain file)
+``FILE.msh`` ``.vtu`` ``.vtk`` ...  an existing triangle/quadrilateral mesh, converted
+                                    (:meth:`Domain.from_mesh`)
+=================================== ===========================================================
+
+:func:`parse_polygon_string` reads the inline ``"x1,y1 x2,y2 ..."`` form of ``--polygon`` and
+``--hole``.
+
+Examples
+--------
+>>> load_domain("usp").n_blocks
+1
+>>> parse_polygon_string("0,0 2,0 1,1").shape
+(3, 2)
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from blockmesh.domain.domain import Domain
+from blockmesh.domain.tomlio import read_text_bounded
+from blockmesh.errors import DomainError, DomainFormatError
+
+__all__ = ["MESH_SUFFIXES", "load_domain", "parse_polygon_string"]
+
+#: File suffixes read as existing meshes to convert (meshio's formats; blockmesh's own too).
+MESH_SUFFIXES = frozenset(
+    {".msh", ".vtu", ".vtk", ".xdmf", ".xmf", ".npz", ".mat", ".med", ".inp", ".mesh", ".su2"}
+    | {".obj", ".off", ".ply", ".stl", ".bdf", ".nas", ".fem", ".dat", ".e", ".exo", ".h5m"}
+)
+_DOMAIN_SUFFIXES = (".toml", ".wkt", ".geojson", ".json")
+
+
+def parse_polygon_string(text: str, *, what: str = "polygon") -> np.ndarray:
+    """Parse ``"x1,y1 x2,y2 ..."`` (the inline polygon form) into an (n, 2) array.
+
+    Examples
+    --------
+    >>> parse_polygon_string("0,0 1,0 0,1").tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+    >>> parse_polygon_string("0,0 1;0")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.DomainFormatError: polygon: token 2 '1;0' is not a pair 'x,y' of numbers ...
+    """
+    tokens = text.split()
+    points = []
+    for k, token in enumerate(tokens, start=1):
+        parts = token.split(",")
+        try:
+            if len(parts) != 2:
+                raise ValueError
+            points.append((float(parts[0]), float(parts[1])))
+        except ValueError:
+            shown = token if len(token) <= 40 else token[:37] + "..."
+            raise DomainFormatError(
+                f"{what}: token {k} {shown!r} is not a pair 'x,y' of numbers (write the "
+                'corners as "x1,y1 x2,y2 ...")'
+            ) from None
+    if not points:
+        raise DomainFormatError(f'the {what} is empty; write the corners as "x1,y1 x2,y2 ..."')
+    return np.array(points, dtype=np.float64)
+
+
+def load_domain(name_or_path: str | Path) -> Domain:
+    """A catalogue domain by name, or a domain, outline or mesh file by path.
+
+    Examples
+    --------
+    >>> load_domain("sp").vertices.tolist()
+    [[-1.0, -1.0], [1.0, -1.0], [2.0, 0.0], [0.0, 1.0], [-2.0, 0.0]]
+    """
+    from blockmesh.domain.catalogue import catalogue_names, catalogue_path
+
+    text = str(name_or_path)
+    path = Path(text)
+    suffix = path.suffix.lower()
+    if suffix in _DOMAIN_SUFFIXES or suffix in MESH_SUFFIXES or path.exists() or "/" in text:
+        if not path.exists():
+            raise DomainFormatError(f"{path}: no such file")
+        if suffix == ".wkt":
+            return _from_wkt(path)
+        if suffix in (".geojson", ".json"):
+            return _from_geojson(path)
+        if suffix in MESH_SUFFIXES or path.is_dir():
+            return Domain.from_mesh(path)
+        return Domain.from_toml(path)
+    names = catalogue_names()
+    if text not in names:
+        close = difflib.get_close_matches(text, names, n=3)
+        hint = f" Did you mean {', '.join(close)}?" if close else ""
+        raise DomainFormatError(
+            f"{text!r} is neither a catalogue domain nor a .toml file (nor a .wkt, .geojson or "
+            f"mesh file).{hint} The catalogue has: {', '.join(names)} (see 'blockmesh catalogue')"
+        )
+    return Domain.from_toml(catalogue_path(text))
+
+
+def _from_wkt(path: Path) -> Domain:
+    import shapely
+
+    text = read_text_bounded(path, what="WKT file")
+    try:
+        geometry = shapely.from_wkt(text.strip())
+    except (shapely.errors.ShapelyError, ValueError) as error:
+        raise DomainFormatError(f"{path}: not Well-Known Text ({error})") from None
+    return _with_source(
+        path, lambda: Domain.from_shapely(_one_polygon(geometry, path), name=path.stem)
+    )
+
+
+def _from_geojson(path: Path) -> Domain:
+    import shapely.geometry
+
+    text = read_text_bounded(path, what="GeoJSON file")
+    try:
+        document = json.loads(text)
+    except (json.JSONDecodeError, RecursionError) as error:
+        raise DomainFormatError(f"{path}: not JSON ({error})") from None
+    feature = _one_feature(document, path)
+    properties = feature.get("properties") or {}
+    if not isinstance(properties, dict):
+        raise DomainFormatError(f"{path}: the feature's properties must be an object")
+    geometry = feature.get("geometry")
+    if not isinstance(geometry, dict) or "type" not in geometry:
+        raise DomainFormatError(f"{path}: the feature has no geometry object")
+    try:
+        shape = shapely.geometry.shape(_flat(geometry))
+    except (shapely.errors.ShapelyError, ValueError, TypeError, KeyError, IndexError) as error:
+        raise DomainFormatError(f"{path}: the geometry cannot be read ({error})") from None
+    name = properties.get("name", path.stem)
+    description = properties.get("description", "")
+    patches = properties.get("patches")
+    if patches is not None and not isinstance(patches, dict):
+        raise DomainFormatError(
+            f"{path}: properties.patches must be an object of patch name: [edges], got "
+            f"{type(patches).__name__}"
+        )
+    return _with_source(
+        path,
+        lambda: Domain.from_shapely(
+            _one_polygon(shape, path), name=name, patches=patches, description=description
+        ),
+    )
+
+
+def _one_feature(document: Any, path: Path) -> dict[str, Any]:
+    if not isinstance(document, dict):
+        raise DomainFormatError(f"{path}: a GeoJSON document is an object")
+    kind = document.get("type")
+    if kind == "FeatureCollection":
+        features = document.get("features")
+        if not isinstance(features, list) or len(features) != 1:
+            count = len(features) if isinstance(features, list) else 0
+            raise DomainFormatError(
+                f"{path}: the FeatureCollection has {count} features; a domain is one Polygon "
+                "feature (put each part in its own file)"
+            )
+        document = features[0]
+        if not isinstance(document, dict):
+            raise DomainFormatError(f"{path}: the feature must be an object")
+        kind = document.get("type")
+    if kind == "Feature":
+        return document
+    if kind in ("Polygon", "MultiPolygon"):
+        return {"type": "Feature", "geometry": document, "properties": {}}
+    raise DomainFormatError(
+        f"{path}: expected a Polygon geometry, a Feature or a FeatureCollection of one, got "
+        f"{kind!r}"
+    )
+
+
+def _flat(geometry: dict[str, Any]) -> dict[str, Any]:
+    """The geometry with every position cut to (x, y) (GeoJSON allows an altitude)."""
+
+    def cut(value: Any) -> Any:
+        if isinstance(value, list) and value and all(isinstance(v, int | float) for v in value):
+            return value[:2]
+        if isinstance(value, list):
+            return [cut(v) for v in value]
+        return value
+
+    return {**geometry, "coordinates": cut(geometry.get("coordinates"))}
+
+
+def _one_polygon(geometry: Any, path: Path) -> Any:
+    import shapely
+
+    if isinstance(geometry, shapely.MultiPolygon) and len(geometry.geoms) == 1:
+        return geometry.geoms[0]
+    if not isinstance(geometry, shapely.Polygon | shapely.MultiPolygon):
+        raise DomainFormatError(f"{path}: expected one Polygon, got a {geometry.geom_type}")
+    return geometry
+
+
+def _with_source(path: Path, build):
+    try:
+        return build()
+    except DomainError as error:
+        raise type(error)(f"{path}: {error}") from None

@@ -1,0 +1,299 @@
+"""What the format modules share: the :class:`Format` record, metadata and mesh rebuilding.
+
+Examples
+--------
+>>> import numpy as np
+>>> from blockmesh.mesh import Mesh
+>>> pts = np.array([[0, 0], [2, 0], [2.5, 1], [2, 2], [0, 2.0]])
+>>> mesh = Mesh.from_cells(pts, [[0, 1, 2, 3, 4]])
+>>> decode_metadata(encode_metadata(mesh))["patch_names"]
+['boundary']
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from blockmesh.errors import BlockMeshError, ExportError
+from blockmesh.geometry.topology import boundary_of_cells
+from blockmesh.mesh.mesh import Mesh
+
+__all__ = [
+    "METADATA_VERSION",
+    "Format",
+    "check_mesh",
+    "decode_metadata",
+    "encode_metadata",
+    "mesh_from_arrays",
+    "name_lookup",
+]
+
+#: Version of the JSON metadata block (names, level) the formats carry.
+METADATA_VERSION = 1
+
+
+@dataclass(frozen=True)
+class Format:
+    """One file format of the registry :data:`blockmesh.io.FORMATS`.
+
+    Attributes
+    ----------
+    name : str
+        The registry key and the ``--format`` name.
+    description : str
+        One line for listings.
+    extensions : tuple of str
+        File name endings (lower case, with the dot) that select this format.
+    writer : callable
+        ``writer(mesh, path, **options) -> Path``, the path written; it writes atomically
+        (:mod:`blockmesh._system.atomic`).
+    reader : callable or None
+        ``reader(path) -> Mesh``.
+    splits : tuple of str
+        For a format without pentagons, the ways of splitting them it takes (names of
+        :data:`blockmesh.io.SPLITS`), the first being the default; empty when the format keeps
+        the pentagons.
+    compressions : tuple of str
+        Accepted ``compression`` values; the first is the default.
+    directory : bool
+        Whether the output is a directory (OpenFOAM) rather than a file.
+    options : tuple of str
+        Extra keyword options the writer takes (e.g. ``dz`` for OpenFOAM).
+    """
+
+    name: str
+    description: str
+    extensions: tuple[str, ...]
+    writer: Callable[..., Path] = field(repr=False)
+    reader: Callable[[Path], Mesh] | None = field(default=None, repr=False)
+    splits: tuple[str, ...] = ()
+    compressions: tuple[str, ...] = ("none",)
+    directory: bool = False
+    options: tuple[str, ...] = ()
+
+    @property
+    def can_read(self) -> bool:
+        """Whether :func:`blockmesh.io.read` can read this format."""
+        return self.reader is not None
+
+    @property
+    def needs_split(self) -> bool:
+        """Whether the format has no pentagons, so they are split (``splits``)."""
+        return bool(self.splits)
+
+    @property
+    def default_split(self) -> str | None:
+        """The split used when none is asked for (None for formats that keep pentagons)."""
+        return self.splits[0] if self.splits else None
+
+    @property
+    def default_compression(self) -> str:
+        """The compression used when none is asked for."""
+        return self.compressions[0]
+
+    def describe_options(self) -> str:
+        """The options this format's writer takes, with their values, for messages.
+
+        Examples
+        --------
+        >>> import blockmesh.io
+        >>> blockmesh.io.FORMATS["msh"].describe_options()
+        'split=tri5|tri3|quad5 (default tri5)'
+        >>> blockmesh.io.FORMATS["npz"].describe_options()
+        'compression=none|zlib (default none)'
+        """
+        parts = []
+        if self.splits:
+            parts.append(f"split={'|'.join(self.splits)} (default {self.default_split})")
+        if len(self.compressions) > 1:
+            parts.append(
+                f"compression={'|'.join(self.compressions)} (default {self.default_compression})"
+            )
+        parts += [f"{name}=..." for name in self.options]
+        return ", ".join(parts) or "no options"
+
+
+def check_mesh(mesh: Any) -> Mesh:
+    """``mesh`` itself if it is a non-empty :class:`~blockmesh.mesh.Mesh`, else ExportError."""
+    if not isinstance(mesh, Mesh):
+        raise ExportError(
+            f"write() takes a blockmesh Mesh (from blockmesh.refine), got {type(mesh).__name__}"
+        )
+    if mesh.n_cells == 0:
+        raise ExportError("the mesh has no cells; there is nothing to write")
+    return mesh
+
+
+def encode_metadata(mesh: Mesh, **extra: Any) -> str:
+    """The names and level of a mesh (what the arrays cannot carry), plus ``extra``, as JSON."""
+    return json.dumps(
+        {
+            "blockmesh_io": METADATA_VERSION,
+            "name": mesh.name,
+            "level": int(mesh.level),
+            "patch_names": list(mesh.patch_names),
+            "region_names": list(mesh.region_names),
+            **extra,
+        },
+        ensure_ascii=False,
+        separators=(",", ":"),
+    )
+
+
+def decode_metadata(
+    text: str | bytes | np.ndarray | None, where: str = "the file"
+) -> dict[str, Any]:
+    """The dictionary of :func:`encode_metadata` (``{}`` for ``None``); ExportError if broken."""
+    if text is None:
+        return {}
+    if isinstance(text, bytes | bytearray | np.ndarray):
+        try:
+            text = bytes(text).decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise ExportError(f"the blockmesh metadata in {where} is not UTF-8: {exc}") from None
+    try:
+        meta = json.loads(text)
+    except ValueError as exc:
+        raise ExportError(f"the blockmesh metadata in {where} is not valid JSON: {exc}") from None
+    if not isinstance(meta, dict):
+        raise ExportError(f"the blockmesh metadata in {where} is not a JSON object")
+    return meta
+
+
+def name_lookup(kind: str, names: tuple[str, ...] | list[str]) -> dict[str, int]:
+    """``{"KIND:NAME": index}`` for each name: the lookup tables shown in ParaView.
+
+    VTK and XDMF files carry the patch and region names this way, as one-value integer arrays of
+    field data named ``patch:NAME`` and ``region:NAME`` whose value is the index used by the
+    ``patch`` and ``region`` cell arrays (ParaView lists them in its Information panel).
+
+    Examples
+    --------
+    >>> name_lookup("patch", ["outer wall", "inlet"])
+    {'patch:outer wall': 0, 'patch:inlet': 1}
+    """
+    return {f"{kind}:{name}": k for k, name in enumerate(names)}
+
+
+def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:
+    arr = np.asarray(values).reshape(-1)
+    if arr.shape[0] != n:
+        raise ExportError(f"{where}: {what} has {arr.shape[0]} entries, expected {n}")
+    if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+        raise ExportError(f"{where}: {what} holds non-finite values")
+    if arr.dtype.kind not in "iuf":
+        raise ExportError(f"{where}: {what} holds {arr.dtype} values, not integers")
+    return arr.astype(np.int64, copy=False)
+
+
+def _read_only(arr: np.ndarray) -> np.ndarray:
+    """``arr`` made read-only: the Mesh takes it over without copying.
+
+    Copied when it is a view of a larger buffer (which it would otherwise keep alive).
+    """
+    base = arr.base
+    if not arr.flags.c_contiguous or (base is not None and getattr(base, "nbytes", 0) > arr.nbytes):
+        arr = np.array(arr, order="C")
+    arr.setflags(write=False)
+    return arr
+
+
+def mesh_from_arrays(
+    points: np.ndarray,
+    cells: np.ndarray,
+    *,
+    where: str,
+    block_id: np.ndarray | None = None,
+    parent: np.ndarray | None = None,
+    region: np.ndarray | None = None,
+    region_names: tuple[str, ...] | list[str] | None = None,
+    boundary_edges: np.ndarray | None = None,
+    boundary_patch: np.ndarray | None = None,
+    patch_names: tuple[str, ...] | list[str] | None = None,
+    level: int = 0,
+    name: str = "",
+) -> Mesh:
+    """A :class:`Mesh` from arrays read from a file, with defaults for what the file lacks.
+
+    Missing block ids become 0 for every cell; a missing parent -1; a missing region the single
+    region ``"domain"``; missing boundary edges are found from the cells and put in one patch
+    ``"boundary"``. Shapes, index ranges and the mesh itself (orientation, boundary) are checked;
+    ``where`` names the file in the :class:`ExportError` raised when they are wrong. The arrays
+    are taken over (made read-only), not copied.
+    """
+    points = np.asarray(points)
+    if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
+        raise ExportError(f"{where}: the points have shape {points.shape}, expected (N, 2)")
+    points = np.ascontiguousarray(points[:, :2], dtype=np.float64)
+    cells = np.asarray(cells)
+    if cells.ndim != 2 or cells.shape[1] != 5:
+        raise ExportError(
+            f"{where}: the cells have shape {cells.shape}; blockmesh reads pentagons only (M, 5)"
+        )
+    cells = _index_array(cells, cells.size, "cells", where).reshape(-1, 5)
+    n, m = points.shape[0], cells.shape[0]
+    if cells.size and (cells.min() < 0 or cells.max() >= n):
+        raise ExportError(
+            f"{where}: cell node ids run from {cells.min()} to {cells.max()}, "
+            f"but there are {n} points"
+        )
+    block_id = (
+        np.zeros(m, np.int64) if block_id is None else _index_array(block_id, m, "block_id", where)
+    )
+    parent = (
+        np.full(m, -1, np.int64) if parent is None else _index_array(parent, m, "parent", where)
+    )
+    if region is None:
+        region = np.zeros(m, dtype=np.int64)
+        region_names = region_names or ("domain",)
+    region = _index_array(region, m, "region", where)
+    if region_names is None:
+        region_names = tuple(f"region_{k}" for k in range(int(region.max(initial=-1)) + 1))
+    if region.size and (region.min() < 0 or region.max() >= len(region_names)):
+        raise ExportError(
+            f"{where}: region indices run from {region.min()} to {region.max()}, "
+            f"but there are {len(region_names)} region names"
+        )
+    if boundary_edges is None:
+        boundary_edges = boundary_of_cells(cells, n)
+        boundary_patch = np.zeros(boundary_edges.shape[0], dtype=np.int64)
+        patch_names = patch_names or ("boundary",)
+    boundary_edges = np.asarray(boundary_edges).reshape(-1, 2)
+    eb = boundary_edges.shape[0]
+    boundary_edges = _index_array(boundary_edges, 2 * eb, "boundary edges", where).reshape(-1, 2)
+    if boundary_patch is None:
+        boundary_patch = np.zeros(eb, dtype=np.int64)
+    boundary_patch = _index_array(boundary_patch, eb, "boundary_patch", where)
+    if patch_names is None:
+        patch_names = tuple(f"patch_{k}" for k in range(int(boundary_patch.max(initial=-1)) + 1))
+    if boundary_patch.size and (
+        boundary_patch.min() < 0 or boundary_patch.max() >= len(patch_names)
+    ):
+        raise ExportError(
+            f"{where}: patch indices run from {boundary_patch.min()} to {boundary_patch.max()}, "
+            f"but there are {len(patch_names)} patch names"
+        )
+    if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
+        raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
+    try:
+        return Mesh(
+            points=_read_only(points),
+            cells=_read_only(cells),
+            block_id=_read_only(block_id),
+            parent=_read_only(parent),
+            boundary_edges=_read_only(boundary_edges),
+            boundary_patch=_read_only(boundary_patch),
+            patch_names=tuple(str(p) for p in patch_names),
+            region=_read_only(region),
+            region_names=tuple(str(r) for r in region_names),
+            level=int(level),
+            name=str(name),
+        )
+    except (BlockMeshError, TypeError, ValueError) as error:
+        raise ExportError(f"{where} does not hold a valid mesh: {error}") from None
