@@ -117,6 +117,14 @@ def _memory() -> str:
     return "unknown memory"
 
 
+def load() -> float | None:
+    """The system's load average over the last minute (None where unknown)."""
+    try:
+        return os.getloadavg()[0]
+    except (AttributeError, OSError):
+        return None
+
+
 def machine() -> str:
     """One line: the processor, cores, memory, system, Python and NumPy."""
     import numpy
@@ -156,6 +164,7 @@ class Page:
         self.title = title
         self.about = (about or "").strip()
         self.parts: list[Table | str] = []
+        self.load = load()  # how busy the machine was when the measurement started
 
     def table(self, title: str, columns: Sequence[str]) -> Table:
         """A new table of the page (in the order made)."""
@@ -171,11 +180,13 @@ class Page:
     def markdown(self, *, when: datetime.datetime | None = None) -> str:
         """The whole page: title, provenance, what is measured, then the tables in order."""
         when = when or datetime.datetime.now(datetime.UTC)
+        busy = [f"{value:.1f}" for value in (self.load, load()) if value is not None]
+        loads = f"; load average {' at the start, '.join(busy)} at the end" if busy else ""
         lines = [
             f"# {self.title}",
             "",
             f"*Written by `{command()}` on {when:%Y-%m-%d %H:%M} UTC; {revision()}.*",
-            f"*Machine: {machine()}.*",
+            f"*Machine: {machine()}{loads}.*",
             "",
         ]
         if self.about:

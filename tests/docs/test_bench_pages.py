@@ -62,6 +62,7 @@ def test_the_page_says_when_where_and_how(page_module, tmp_path, monkeypatch) ->
     assert lines[0] == "# A benchmark"
     assert "Written by `python benchmarks/bench_x.py --repeat 2` on " in text
     assert " UTC; blockmesh " in text and "*Machine: " in text and " cores, " in text
+    assert " at the end.*" in text  # how busy the machine was
     assert text.index("What it measures.") < text.index("## Results") < text.index("A closing")
     assert "| 1 | 2 s |" in lines
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.md"]  # no temporary left
