@@ -32,11 +32,17 @@ import numpy as np
 import blockmesh.refinement.grouped as grouped
 from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.checks import choice, whole_number
-from blockmesh.errors import ArgumentTypeError, ResourceError
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
+from blockmesh.refinement.placement import (
+    LaplacianSmoothing,
+    PaperPlacement,
+    Placement,
+    as_placement,
+)
 from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
 from blockmesh.refinement.plan import place_level as _place_level
 from blockmesh.refinement.sizes import MeshSize, predict_size
@@ -74,6 +80,7 @@ def refine(
     *,
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
@@ -92,7 +99,13 @@ def refine(
         kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
     smooth : int
         Laplacian sweeps per level (see :mod:`blockmesh.refinement.smoothing`); 0 keeps the paper's
-        exact scheme.
+        exact scheme. The same as ``placement=LaplacianSmoothing(smooth)``.
+    placement : str or Placement
+        Where the nodes of every new level go (:mod:`blockmesh.refinement.placement`):
+        ``"paper"`` (default, the paper's exact scheme), ``"optimized"``, ``"angles"``, or a
+        :class:`~blockmesh.refinement.placement.Placement`. Any but the paper's refines one level
+        at a time and places the nodes after each; cells, counts, patches and regions stay the
+        paper's.
     max_memory : int, optional
         Refuse to build a mesh needing more bytes than this (default: the memory available now).
     progress : callable, optional
@@ -120,6 +133,13 @@ def refine(
     level = whole_number(level, "level")
     choice(numbering, NUMBERINGS, "numbering")
     smooth = whole_number(smooth, "smooth")
+    placement = as_placement(placement)
+    if isinstance(placement, LaplacianSmoothing):
+        if smooth not in (0, placement.sweeps):
+            raise ArgumentError(
+                f"smooth={smooth} and placement={placement!r} ask for two smoothings; give one"
+            )
+        smooth, placement = placement.sweeps, PaperPlacement()
     if max_memory is not None:
         max_memory = whole_number(max_memory, "max_memory", minimum=1)
     if threads is not None:
@@ -130,7 +150,10 @@ def refine(
     _check_memory(base, n_shared, level, max_memory)
     _check_precision(base, level)
     try:
-        mesh = _build(base, neighbour, level, smooth, progress, threads)
+        if placement.nested:
+            mesh = _build(base, neighbour, level, smooth, progress, threads)
+        else:
+            mesh = _build_placed(base, level, smooth, placement, progress, threads)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -139,6 +162,19 @@ def refine(
         ) from None
     if numbering == "rcm":
         mesh = mesh.with_rcm_numbering()
+    return mesh
+
+
+def _build_placed(
+    base: Mesh, level: int, smooth: int, placement: Placement, progress, threads: int | None
+) -> Mesh:
+    """One level at a time, the nodes of each new level placed by ``placement``."""
+    mesh = base
+    for step in range(level):
+        neighbour = cell_neighbours(mesh.cells, mesh.n_points)
+        mesh = placement.after_level(_build(mesh, neighbour, 1, smooth, None, threads))
+        if progress is not None:
+            progress(step + 1, level)
     return mesh
 
 
