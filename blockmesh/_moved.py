@@ -8,13 +8,13 @@ names the new path. Paths whose package kept the old name (``blockmesh.mesh``,
 
 Examples
 --------
->>> import warnings
+>>> import importlib, warnings
 >>> with warnings.catch_warnings(record=True) as caught:
 ...     warnings.simplefilter("always")
-...     from blockmesh.template import pentagon_template
->>> pentagon_template.__module__
+...     old = importlib.reload(importlib.import_module("blockmesh.template"))
+>>> old.pentagon_template.__module__
 'blockmesh.refinement.template'
->>> str(caught[0].message)
+>>> str(caught[-1].message)
 'blockmesh.template moved to blockmesh.refinement.template; import it from there'
 """
 
@@ -26,10 +26,11 @@ import importlib.util
 import operator
 import sys
 import warnings
+from collections.abc import Callable
 from types import ModuleType
 from typing import Any
 
-__all__ = ["MOVED", "install"]
+__all__ = ["MOVED", "RENAMED", "install", "removed_names"]
 
 #: Old module -> its new home, then the other modules that received some of its names.
 MOVED: dict[str, tuple[str, ...]] = {
@@ -62,6 +63,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     "blockmesh.catalogue": ("blockmesh.domain.catalogue",),
     "blockmesh.plot_tables": ("blockmesh.tables.plot",),
     "blockmesh.io._common": ("blockmesh.io.common",),
+    "blockmesh.commands._common": ("blockmesh.commands.common",),
     "blockmesh.io.vtu_stream": ("blockmesh.io.vtu.stream",),
     "blockmesh.io.legacy_vtk": ("blockmesh.io.vtk.format",),
     "blockmesh.io.vtk_stream": ("blockmesh.io.vtk.stream",),
@@ -75,12 +77,41 @@ MOVED: dict[str, tuple[str, ...]] = {
 #: Old names that became something else: the dotted path of what replaces them.
 RENAMED: dict[tuple[str, str], str] = {
     ("blockmesh.curved_quadrature", "cell_areas"): "blockmesh.mesh.mesh:Mesh.curved_cell_areas",
+    ("blockmesh.polynomial", "as_polynomial"): "blockmesh.numerics.expr:as_polynomial",
+    ("blockmesh.decompose.conversion", "convert_mesh"): "blockmesh.domain.loading:convert_mesh",
 }
 
 
 def _resolve(target: str) -> Any:
     module, _, attribute = target.partition(":")
     return operator.attrgetter(attribute)(importlib.import_module(module))
+
+
+def removed_names(module: str) -> Callable[[str], Any]:
+    """A module ``__getattr__`` that finds the names :data:`RENAMED` moves out of ``module``.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> lookup = removed_names("blockmesh.polynomial")
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     lookup("as_polynomial").__module__
+    'blockmesh.numerics.expr'
+    """
+
+    def lookup(name: str) -> Any:
+        target = RENAMED.get((module, name))
+        if target is None:
+            raise AttributeError(f"module {module!r} has no attribute {name!r}")
+        warnings.warn(
+            f"{module}.{name} moved to {target.replace(':', '.')}; import it from there",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return _resolve(target)
+
+    return lookup
 
 
 class _MovedModule(ModuleType):

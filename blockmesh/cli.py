@@ -150,7 +150,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _printable(text: str) -> str:
-    from blockmesh.commands._common import printable
+    from blockmesh.commands.common import printable
 
     return printable(text, keep="\n")
 

@@ -17,6 +17,8 @@ import numpy as np
 
 from blockmesh._system.atomic import atomic_file
 from blockmesh.errors import ExportError
+from blockmesh.geometry.polygons import signed_area
+from blockmesh.mesh.measures import cell_shapes
 from blockmesh.refinement.sizes import DRAW_LIMIT
 
 __all__ = [
@@ -256,7 +258,6 @@ def _largest_area(mesh) -> float:
     step = max(1, mesh.n_cells // 65536)
     xy = mesh.points[mesh.cells[::step]]
     xy -= xy[:, :1]
-    from blockmesh.geometry.polygons import signed_area
 
     return 2.0 * float(signed_area(xy).max(initial=0.0))  # a sample can miss the largest
 
@@ -324,8 +325,6 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
 
     O(M) in chunks; the aspect ratios of all cells are kept (8 bytes per cell) for their bins.
     """
-    from blockmesh.mesh.measures import cell_shapes
-
     plt = pyplot()
     angle_bins = np.linspace(0.0, 180.0, 91)
     angle_counts = np.zeros(angle_bins.size - 1)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from blockmesh.commands._common import print_json
+from blockmesh.commands.common import print_json
 from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.domain.loading import load_domain
 

@@ -8,8 +8,9 @@ import warnings
 
 import numpy as np
 
-from blockmesh.commands._common import add_domain_arguments, print_json, printable, resolve_target
+from blockmesh.commands.common import add_domain_arguments, print_json, printable, resolve_target
 from blockmesh.domain.blockgraph import certificate
+from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError
 from blockmesh.mesh.mesh import Mesh
@@ -68,8 +69,6 @@ def run(args: argparse.Namespace) -> int:
 def _curves_line(domain: Domain) -> str:
     """What the curve checks established, for the text certificate."""
     from collections import Counter
-
-    from blockmesh.domain.curve_checks import CHECK_LEVELS
 
     kinds = Counter(curve.kind for curve in domain.curves.values())
     listed = ", ".join(f"{n} {kind}{'s' if n != 1 else ''}" for kind, n in kinds.items())

@@ -8,8 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from blockmesh.commands._common import check_folders, print_json
+from blockmesh.commands.common import check_folders, print_json
 from blockmesh.domain.domain import Domain
+from blockmesh.errors import ArgumentError
 from blockmesh.io import SPLITS, write
 
 
@@ -58,8 +59,6 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     if output.suffix.lower() == ".toml" and args.format is None:
         if args.level:
-            from blockmesh.errors import ArgumentError
-
             raise ArgumentError(
                 "a .toml output holds the blocks themselves; --level applies to mesh outputs"
             )

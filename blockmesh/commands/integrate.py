@@ -9,8 +9,8 @@ from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any
 
-from blockmesh.commands._common import add_domain_arguments, print_json, printable, resolve_target
 from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.commands.common import add_domain_arguments, print_json, printable, resolve_target
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.quadrature import (

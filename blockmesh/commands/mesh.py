@@ -18,7 +18,9 @@ from pathlib import Path
 from typing import Any
 
 from blockmesh._system.memory import available_memory, format_bytes, process_rss
-from blockmesh.commands._common import (
+from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.commands._progress import StageProgress
+from blockmesh.commands.common import (
     ProgressBar,
     add_domain_arguments,
     check_folders,
@@ -29,11 +31,9 @@ from blockmesh.commands._common import (
     print_json,
     printable,
 )
-from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
-from blockmesh.commands._progress import StageProgress
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, ResourceError
-from blockmesh.io import SPLITS, check_options, format_for_path
+from blockmesh.io import SPLITS, check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
 from blockmesh.refinement.pipeline import NUMBERINGS, refine
@@ -228,8 +228,6 @@ def _mesh_one(
         with _stage(progress, "drawing the quality histograms", prediction):
             report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
     if output:
-        from blockmesh.io import write
-
         target_path = _fill(output, mesh)
         with _stage(progress, f"writing {target_path}", prediction):
             report["output"] = str(

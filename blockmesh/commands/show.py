@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from blockmesh.commands._common import (
+from blockmesh.commands.common import (
     add_domain_arguments,
     plural,
     printable,

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from blockmesh.commands._common import (
+from blockmesh.commands.common import (
     add_domain_arguments,
     check_folders,
     print_json,
@@ -25,8 +25,8 @@ from blockmesh.commands._common import (
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
 from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
-from blockmesh.vem.fields import split_pair
-from blockmesh.vem.output import SOLUTION_FORMATS
+from blockmesh.vem.fields import scalar_field, split_pair
+from blockmesh.vem.output import SOLUTION_FORMATS, write_solution
 
 __all__ = ["register", "run"]
 
@@ -195,8 +195,6 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
 
 
 def _nodal_error(solution, exact: str, equation: str) -> np.ndarray:
-    from blockmesh.vem.fields import scalar_field
-
     x, y = solution.mesh.points.T
     if equation == "poisson":
         return solution.values - scalar_field(exact, "exact solution")(x, y)
@@ -247,8 +245,6 @@ def run(args: argparse.Namespace) -> int:
         report.update(errors.as_dict())
         extra["error"] = _nodal_error(solution, args.exact, args.equation)
     if args.output:
-        from blockmesh.vem.output import write_solution
-
         report["output"] = str(write_solution(solution, args.output, extra_point_data=extra))
     if args.plot:
         from blockmesh.vem.plot import plot_solution

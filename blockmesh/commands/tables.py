@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from blockmesh._system.atomic import atomic_file
-from blockmesh.commands._common import check_folders
+from blockmesh.commands.common import check_folders
 from blockmesh.quadrature import RULES
 from blockmesh.tables import PENTAGONS, TABLES, compute_table, format_table, write_csv
 from blockmesh.tables.plot import plot_convergence

@@ -39,7 +39,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from blockmesh.errors import ArgumentError, DomainError, DomainFormatError
+from blockmesh.errors import ArgumentError, DomainError, DomainFormatError, fmt_point
 
 __all__ = ["CURVE_KINDS", "Arc", "Curve", "Polyline", "Spline", "curve_from_fields"]
 
@@ -51,7 +51,7 @@ _LOOP_SAMPLES = 24
 Point = tuple[float, float]
 
 
-def _point(value: object, what: str) -> Point:
+def as_point(value: object, what: str) -> Point:
     """``value`` as an ``(x, y)`` pair of finite floats, or DomainFormatError naming ``what``."""
     if isinstance(value, str | bytes) or not isinstance(value, Iterable):
         raise DomainFormatError(f"{what} must be a pair [x, y], got {value!r}")
@@ -71,16 +71,12 @@ def _points(value: object, what: str) -> tuple[Point, ...]:
         value = value.tolist()
     if isinstance(value, str | bytes) or not isinstance(value, Iterable):
         raise DomainFormatError(f"{what} must be a list of [x, y] pairs, got {value!r}")
-    points = tuple(_point(p, f"{what} {k}") for k, p in enumerate(value))
+    points = tuple(as_point(p, f"{what} {k}") for k, p in enumerate(value))
     if not points:
         raise DomainFormatError(
             f"{what} is empty: give at least one interior point (a straight edge needs no entry)"
         )
     return points
-
-
-def _fmt(p: Iterable[float]) -> str:
-    return "(" + ", ".join(f"{float(c):.12g}" for c in p) + ")"
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -119,7 +115,7 @@ class Curve(ABC):
         ...
         blockmesh.errors.DomainError: the arc on edge (0, 1) cannot reach both ends ...
         """
-        bound = replace(self, start=_point(start, "start"), end=_point(end, "end"))
+        bound = replace(self, start=as_point(start, "start"), end=as_point(end, "end"))
         bound._prepare(where)
         return bound
 
@@ -257,9 +253,9 @@ class Arc(Curve):
                 "an arc needs exactly one of through = [x, y] or center = [x, y]"
             )
         if self.through is not None:
-            _store(self, through=_point(self.through, "the arc's through point"))
+            _store(self, through=as_point(self.through, "the arc's through point"))
         else:
-            _store(self, center=_point(self.center, "the arc's center"))
+            _store(self, center=as_point(self.center, "the arc's center"))
 
     @property
     def radius(self) -> float:
@@ -284,7 +280,7 @@ class Arc(Curve):
         label = self._label(where)
         chord = float(np.hypot(*(q - p)))
         if chord == 0.0:
-            raise DomainError(f"{label} has both ends at {_fmt(p)}")
+            raise DomainError(f"{label} has both ends at {fmt_point(p)}")
         if self.through is not None:
             m = np.array(self.through)
             a, b = q - p, m - p
@@ -292,13 +288,15 @@ class Arc(Curve):
             scale = max(chord, float(np.hypot(*b)), float(np.hypot(*(m - q))))
             if min(float(np.hypot(*b)), float(np.hypot(*(m - q)))) <= SHAPE_TOL * scale:
                 raise DomainError(
-                    f"{label} has its through point {_fmt(m)} at an end; give a point on the "
+                    f"{label} has its through point {fmt_point(m)} at an end; give a point on the "
                     "arc between the ends"
                 )
             if abs(twice_area) <= SHAPE_TOL * scale * scale:
                 raise DomainError(
-                    f"{label}: the through point {_fmt(m)} is on the straight line between the "
-                    f"ends {_fmt(p)} and {_fmt(q)}; for a straight edge leave the edge out, or "
+                    f"{label}: the through point {fmt_point(m)} is on the straight line between "
+                    "the "
+                    f"ends {fmt_point(p)} and {fmt_point(q)}; for a straight edge leave the edge "
+                    "out, or "
                     "move the point off the line"
                 )
             d = 2.0 * float(_cross(a, b))
@@ -317,8 +315,10 @@ class Arc(Curve):
             r0, r1 = float(np.hypot(*(p - centre))), float(np.hypot(*(q - centre)))
             if abs(r0 - r1) > SHAPE_TOL * max(r0, r1):
                 raise DomainError(
-                    f"{label} cannot reach both ends from its centre {_fmt(centre)}: the start "
-                    f"{_fmt(p)} is {r0:.12g} from it and the end {_fmt(q)} {r1:.12g} (they differ "
+                    f"{label} cannot reach both ends from its centre {fmt_point(centre)}: the "
+                    "start "
+                    f"{fmt_point(p)} is {r0:.12g} from it and the end {fmt_point(q)} {r1:.12g} "
+                    "(they differ "
                     f"by {abs(r0 - r1):.3g}); put the centre on the perpendicular bisector of "
                     "the ends, or give a through point instead"
                 )
@@ -327,8 +327,9 @@ class Arc(Curve):
             sweep = _angle_between(p - centre, q - centre)
             if abs(sweep) >= math.pi * (1 - SHAPE_TOL):
                 raise DomainError(
-                    f"{label}: the ends {_fmt(p)} and {_fmt(q)} are opposite each other across "
-                    f"the centre {_fmt(centre)}, so either half circle fits; give a through "
+                    f"{label}: the ends {fmt_point(p)} and {fmt_point(q)} are opposite each "
+                    "other across "
+                    f"the centre {fmt_point(centre)}, so either half circle fits; give a through "
                     "point instead of the centre"
                 )
         _store(self, _c=centre, _r=radius, _theta=(theta0, sweep))
@@ -399,7 +400,7 @@ class _Pieces(Curve):
         if repeated.size:
             k = int(repeated[0])
             raise DomainError(
-                f"{label} passes twice through {_fmt(nodes[k])} (points {k} and {k + 1} of "
+                f"{label} passes twice through {fmt_point(nodes[k])} (points {k} and {k + 1} of "
                 "start, points..., end coincide); list every point once"
             )
         knots = np.concatenate([[0.0], np.cumsum(steps) / size])
@@ -409,7 +410,8 @@ class _Pieces(Curve):
         crossing = _first_crossing(self._polyline_samples())
         if crossing is not None:
             raise DomainError(
-                f"{label} crosses itself near {_fmt(crossing)}; reorder its points or space them "
+                f"{label} crosses itself near {fmt_point(crossing)}; reorder its points or space "
+                "them "
                 "so that it does not loop"
             )
 

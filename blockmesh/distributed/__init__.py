@@ -48,6 +48,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from blockmesh._system.atomic import atomic_file, check_target
+from blockmesh._system.memory import format_bytes, format_count
 from blockmesh._system.procfs import umask
 from blockmesh.checks import whole_number
 from blockmesh.distributed.files import (
@@ -64,6 +65,7 @@ from blockmesh.distributed.pieces import piece_node_count
 from blockmesh.distributed.tasks import integrate_piece_task, write_piece_task
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
 from blockmesh.mesh.mesh import Mesh, MeshQuality
+from blockmesh.quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
 from blockmesh.refinement.template import node_count
 
 if TYPE_CHECKING:
@@ -253,7 +255,6 @@ def _check_workers(parts: Partitioning, client: Any) -> None:
     if not limits:
         return
     limit = min(limits)
-    from blockmesh._system.memory import format_bytes
 
     needs = [predict_task_bytes(parts, p) for p in range(parts.n_partitions)]
     worst = int(np.argmax(needs))
@@ -479,9 +480,6 @@ def integrate_with_estimate(
     -------
     IntegrationResult
     """
-    from blockmesh._system.memory import format_count
-    from blockmesh.quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
-
     if level is None:
         steps = 0
     elif isinstance(target, Mesh):

@@ -33,7 +33,8 @@ import shapely
 
 from blockmesh.curves.edges import CurvedEdges, curved_slots, edge_points
 from blockmesh.curves.types import SHAPE_TOL, Curve
-from blockmesh.errors import DomainError, DomainFormatError
+from blockmesh.domain.validate import block_label
+from blockmesh.errors import DomainError, DomainFormatError, fmt_point
 from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,
     corner_sines,
@@ -49,10 +50,6 @@ __all__ = ["CHECK_LEVELS", "check_curved_blocks", "curved_edges", "resolve_curve
 CHECK_LEVELS = 5
 #: Two blocks overlapping by more than this fraction of the smaller one's area cross each other.
 _OVERLAP_TOL = 1e-9
-
-
-def _fmt(p) -> str:
-    return "(" + ", ".join(f"{float(c):.6g}" for c in p) + ")"
 
 
 def _vertex_id(value: object, n_vertices: int, key: object) -> int:
@@ -114,8 +111,10 @@ def resolve_curves(
             for end, vertex in ((curve.start, a), (curve.end, b)):
                 if float(np.hypot(*(np.array(end) - vertices[vertex]))) > SHAPE_TOL * scale:
                     raise DomainError(
-                        f"the {curve.kind} on edge ({a}, {b}) has an end at {_fmt(end)}, but "
-                        f"vertex {vertex} is at {_fmt(vertices[vertex])}; leave the ends out (the "
+                        f"the {curve.kind} on edge ({a}, {b}) has an end at {fmt_point(end, 6)}, "
+                        "but "
+                        f"vertex {vertex} is at {fmt_point(vertices[vertex], 6)}; leave the ends "
+                        "out (the "
                         "vertices are used) or give them in the order of the pair"
                     )
         out[(a, b)] = curve.with_ends(vertices[a], vertices[b], f"edge ({a}, {b})")
@@ -153,10 +152,6 @@ def curved_edges(curves: Mapping[tuple[int, int], Curve]) -> CurvedEdges | None:
 def _edge_label(table: CurvedEdges, row: int) -> str:
     a, b = table.edges[row]
     return f"the {table.curves[int(table.curve[row])].kind} on edge ({a}, {b})"
-
-
-def _block_label(blocks: np.ndarray, b: int) -> str:
-    return f"block {b} (vertices {', '.join(map(str, blocks[b]))})"
 
 
 def check_curved_blocks(
@@ -224,8 +219,9 @@ def _check_tangents(vertices, blocks, table, row, forward, which) -> None:
             if turn < -COLLINEAR_SIN_TOL:
                 angle = 180.0 - np.degrees(turn)
                 raise DomainError(
-                    f"{_block_label(blocks, b)} is not convex at vertex {blocks[b, k]} "
-                    f"{_fmt(corners[k])}: with {' and '.join(named)} the corner is {angle:.2f}° "
+                    f"{block_label(blocks, b)} is not convex at vertex {blocks[b, k]} "
+                    f"{fmt_point(corners[k], 6)}: with {' and '.join(named)} the corner is "
+                    f"{angle:.2f}° "
                     "(more than 180°); make the curve bulge less there, or move the vertex"
                 )
 
@@ -249,9 +245,11 @@ def _check_cells(xy, step, blocks, curved_blocks, table, row) -> None:
     angles = interior_angles(local[i, cell])
     worst = int(np.argmax(angles))
     raise DomainError(
-        f"{_block_label(blocks, b)} does not stay convex with {names}: refined to level {step}, "
-        f"its cell with corners {', '.join(_fmt(p) for p in corners[i, cell])} has a corner of "
-        f"{angles[worst]:.2f}° at {_fmt(corners[i, cell, worst])}; make the curve bulge less, or "
+        f"{block_label(blocks, b)} does not stay convex with {names}: refined to level {step}, "
+        f"its cell with corners {', '.join(fmt_point(p, 6) for p in corners[i, cell])} has a "
+        "corner of "
+        f"{angles[worst]:.2f}° at {fmt_point(corners[i, cell, worst], 6)}; make the curve bulge "
+        "less, or "
         "split the block so that the curve spans less of it"
     )
 
@@ -272,7 +270,7 @@ def _check_outlines(vertices, blocks, curved_blocks, outlines, table, row) -> No
             where = reason.split("[", 1)[1].rstrip("]").split() if "[" in reason else []
             at = f" near ({', '.join(where)})" if where else ""
             raise DomainError(
-                f"{_block_label(blocks, b)} crosses itself with {names}{at}: a curve runs over "
+                f"{block_label(blocks, b)} crosses itself with {names}{at}: a curve runs over "
                 "another edge of its block; make it bulge less or move the vertices"
             )
     polygons[curved_blocks] = curved_polygons
@@ -288,7 +286,8 @@ def _check_outlines(vertices, blocks, curved_blocks, outlines, table, row) -> No
                 names = " and ".join(_edge_label(table, r) for r in row[i] if r >= 0)
                 centre = shapely.centroid(shared)
                 raise DomainError(
-                    f"{_block_label(blocks, b)} with {names} runs into block {other} near "
-                    f"{_fmt((centre.x, centre.y))} (they overlap by {overlap:.3g}); make the "
+                    f"{block_label(blocks, b)} with {names} runs into block {other} near "
+                    f"{fmt_point((centre.x, centre.y), 6)} (they overlap by {overlap:.3g}); make "
+                    "the "
                     "curve bulge less or move the vertices"
                 )

@@ -33,8 +33,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from blockmesh.curves.types import Arc, Curve, _point
-from blockmesh.errors import DomainError, DomainFormatError
+from blockmesh.curves.types import Arc, Curve, as_point
+from blockmesh.domain.validate import parse_points
+from blockmesh.errors import DomainError, DomainFormatError, fmt_point
 
 if TYPE_CHECKING:
     from blockmesh.domain.domain import Domain
@@ -89,7 +90,7 @@ def _circle_fields(circle: object, what: str) -> tuple[tuple[float, float], floa
         )
     if "center" not in circle or "radius" not in circle:
         raise DomainFormatError(f"{what} needs center = [x, y] and radius = r")
-    centre = _point(circle["center"], f"{what}'s center")
+    centre = as_point(circle["center"], f"{what}'s center")
     radius = circle["radius"]
     if isinstance(radius, bool) or not isinstance(radius, numbers.Real):
         raise DomainFormatError(f"{what}'s radius must be a number, got {radius!r}")
@@ -133,8 +134,6 @@ def curved_polygon(
 
     Called by :meth:`blockmesh.Domain.from_polygon` when ``arcs`` or ``circles`` are given.
     """
-    from blockmesh.domain.validate import parse_points
-
     rings = [parse_points(coords, "polygon vertex")]
     hole_list = [] if holes is None else list(holes)
     rings += [parse_points(h, f"hole {k} vertex") for k, h in enumerate(hole_list)]
@@ -223,8 +222,6 @@ def _check_curves_apart(
     (the decomposition numbers the sampled edges otherwise). Neighbours may share their corner.
     """
     import shapely
-
-    from blockmesh.domain.validate import fmt_point
 
     lines, keys = [], []
     for r, ring in enumerate(rings):

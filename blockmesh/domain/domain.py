@@ -29,9 +29,14 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh._system.atomic import as_path, atomic_file
 from blockmesh.checks import readonly
+from blockmesh.curves.edges import area_corrections
 from blockmesh.curves.types import Curve
+from blockmesh.decompose import decompose_polygon
+from blockmesh.decompose.conversion import convert_elements, read_element_mesh
 from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, resolve_curves
+from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
 from blockmesh.domain.validate import (
     Ring,
@@ -43,10 +48,17 @@ from blockmesh.domain.validate import (
     resolve_patches,
     resolve_regions,
 )
-from blockmesh.errors import ArgumentTypeError, DomainError, DomainFormatError, TopologyError
+from blockmesh.errors import (
+    ArgumentTypeError,
+    BlockMeshError,
+    DomainError,
+    DomainFormatError,
+    TopologyError,
+)
 from blockmesh.geometry.polygons import interior_angles, signed_area
 from blockmesh.geometry.topology import boundary_loops, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.pipeline import refine
 
 __all__ = ["Domain"]
 
@@ -381,13 +393,10 @@ class Domain:
         if (
             arcs or circles
         ):  # decomposed through the chords, then curved: blockmesh.domain.curved_polygons
-            from blockmesh.domain.curved_polygons import curved_polygon
-
             return curved_polygon(
                 cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
                 description=description,
             )  # fmt: skip
-        from blockmesh.decompose import decompose_polygon
 
         given = [parse_points(coords, "polygon vertex")]
         for k, hole in enumerate(_hole_list(holes)):
@@ -438,8 +447,6 @@ class Domain:
         >>> d.n_blocks, d.patch_names, round(d.area, 14) == round(3.141592653589793 / 4, 14)
         (11, ('wall',), True)
         """
-        from blockmesh.domain.curved_polygons import circle_domain
-
         return circle_domain(cls, center, radius, name=name, patch=patch, description=description)
 
     @classmethod
@@ -509,7 +516,7 @@ class Domain:
         convex polygon) its ring-and-hub template (``3 n`` pentagons), with the nodes of every
         element edge at the same symmetric fractions, so the result conforms. Physical groups
         (or line cell sets) become patches; surface groups become regions; each block keeps the
-        id of its source element (see :func:`blockmesh.decompose.conversion.convert_mesh`).
+        id of its source element (see :mod:`blockmesh.decompose.conversion`).
 
         Parameters
         ----------
@@ -519,9 +526,23 @@ class Domain:
         name : str, optional
             Default: the file's stem (or ``"mesh"``).
         """
-        from blockmesh.decompose.conversion import convert_mesh
-
-        return convert_mesh(source, name=name, description=description)
+        mesh = read_element_mesh(source)
+        label = str(source) if isinstance(source, str | Path) else "the mesh"
+        default_name = Path(source).stem if isinstance(source, str | Path) else "mesh"
+        try:
+            spec = convert_elements(mesh)
+            return cls.from_blocks(
+                spec.vertices,
+                spec.blocks,
+                spec.patches,
+                spec.regions,
+                name=name or default_name,
+                description=description,
+                layout=spec.layout,
+                block_source=spec.block_source,
+            )
+        except DomainError as error:
+            raise type(error)(f"{label}: {error}") from None
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Domain:
@@ -548,8 +569,6 @@ class Domain:
 
     def write_toml(self, path: str | Path) -> Path:
         """Write :meth:`to_toml` to ``path`` atomically (temporary file, then rename)."""
-        from blockmesh._system.atomic import as_path, atomic_file
-
         path = as_path(path)
         with atomic_file(path) as temporary:
             temporary.write_text(self.to_toml(), encoding="utf-8")
@@ -575,8 +594,6 @@ class Domain:
         """Area of each block, shape (B,), bounded by its curved edges where it has any."""
         areas = signed_area(self.vertices[self.blocks])
         if self.curves:
-            from blockmesh.curves.edges import area_corrections
-
             areas = areas + area_corrections(self.blocks, self.n_vertices, self.block_mesh().curves)
         return areas
 
@@ -669,8 +686,6 @@ class Domain:
 
     def mesh(self, level: int, **options: Any) -> Mesh:
         """Refine the blocks ``level`` times; options as :func:`blockmesh.refine`."""
-        from blockmesh.refinement.pipeline import refine
-
         return refine(self, level, **options)
 
 
@@ -717,8 +732,6 @@ def _merged_edges(edges: Any, given: np.ndarray, merged: np.ndarray) -> Any:
 
 
 def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
-    from blockmesh.errors import BlockMeshError, TopologyError
-
     try:
         return cell_neighbours(blocks, n_vertices)
     except BlockMeshError as error:

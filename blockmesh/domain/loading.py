@@ -34,11 +34,12 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.tomlio import read_text_bounded
 from blockmesh.errors import DomainError, DomainFormatError
 
-__all__ = ["MESH_SUFFIXES", "load_domain", "parse_polygon_string"]
+__all__ = ["MESH_SUFFIXES", "convert_mesh", "load_domain", "parse_polygon_string"]
 
 #: File suffixes read as existing meshes to convert (meshio's formats; blockmesh's own too).
 MESH_SUFFIXES = frozenset(
@@ -46,6 +47,19 @@ MESH_SUFFIXES = frozenset(
     | {".obj", ".off", ".ply", ".stl", ".bdf", ".nas", ".fem", ".dat", ".e", ".exo", ".h5m"}
 )
 _DOMAIN_SUFFIXES = (".toml", ".wkt", ".geojson", ".json")
+
+
+def convert_mesh(source: Any, *, name: str | None = None, description: str = "") -> Domain:
+    """The Domain of an existing mesh, a path or a mesh object (:meth:`Domain.from_mesh`).
+
+    Examples
+    --------
+    >>> import meshio, numpy as np
+    >>> points = np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]])
+    >>> convert_mesh(meshio.Mesh(points, [("quad", [[0, 1, 2, 3]])]), name="square").n_blocks
+    12
+    """
+    return Domain.from_mesh(source, name=name, description=description)
 
 
 def parse_polygon_string(text: str, *, what: str = "polygon") -> np.ndarray:
@@ -87,8 +101,6 @@ def load_domain(name_or_path: str | Path) -> Domain:
     >>> load_domain("sp").vertices.tolist()
     [[-1.0, -1.0], [1.0, -1.0], [2.0, 0.0], [0.0, 1.0], [-2.0, 0.0]]
     """
-    from blockmesh.domain.catalogue import catalogue_names, catalogue_path
-
     text = str(name_or_path)
     path = Path(text)
     suffix = path.suffix.lower()

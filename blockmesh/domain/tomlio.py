@@ -58,6 +58,7 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh.curves.types import CURVE_KINDS, curve_from_fields
 from blockmesh.errors import DomainFormatError
 
 __all__ = [
@@ -356,8 +357,6 @@ def _disc(raw: dict[str, Any], source: str) -> dict[str, Any]:
 
 def _polygon_arcs(tables: object, source: str) -> dict[Any, Any]:
     """``[[arcs]]`` tables as ``{edge: Arc}`` (unbound; the domain checks them)."""
-    from blockmesh.curves.types import curve_from_fields
-
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
         raise DomainFormatError(
             f"{source}: 'arcs' must be [[arcs]] tables (one per curved polygon edge), got "
@@ -380,8 +379,6 @@ def _polygon_arcs(tables: object, source: str) -> dict[Any, Any]:
 
 def _curved_edges(tables: object, source: str) -> dict[tuple[int, int], Any]:
     """``[[edges]]`` tables as ``{(a, b): curve}`` (unbound curves; the domain checks them)."""
-    from blockmesh.curves.types import CURVE_KINDS, curve_from_fields
-
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
         raise DomainFormatError(
             f"{source}: 'edges' must be [[edges]] tables (one per curved edge), got "

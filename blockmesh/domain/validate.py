@@ -28,7 +28,13 @@ from typing import NamedTuple
 import numpy as np
 import shapely
 
-from blockmesh.errors import BlockMeshWarning, DomainError, DomainFormatError, TopologyError
+from blockmesh.errors import (
+    BlockMeshWarning,
+    DomainError,
+    DomainFormatError,
+    TopologyError,
+    fmt_point,
+)
 from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,
     LocalFrame,
@@ -73,17 +79,6 @@ MAX_COORDINATE = 1e150
 #: Most problems listed in one message.
 _MAX_LISTED = 8
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
-
-
-def fmt_point(p: Iterable[float]) -> str:
-    """A point as ``(x, y)`` with the shortest exact repr of each coordinate.
-
-    Examples
-    --------
-    >>> fmt_point([1.0, 0.25])
-    '(1, 0.25)'
-    """
-    return "(" + ", ".join(f"{float(c):.12g}" for c in p) + ")"
 
 
 def _raise(kind: type[Exception], problems: list[str]) -> None:
@@ -580,7 +575,8 @@ def parse_blocks(raw: object, n_vertices: int) -> np.ndarray:
     return np.array(items, dtype=np.int64).reshape(-1, 5)
 
 
-def _block_label(blocks: np.ndarray, b: int) -> str:
+def block_label(blocks: np.ndarray, b: int) -> str:
+    """How messages name a block: ``block 3 (vertices 4, 7, 9, 2, 5)``."""
     return f"block {b} (vertices {', '.join(map(str, blocks[b]))})"
 
 
@@ -628,10 +624,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     flat = np.flatnonzero(np.abs(areas) <= 1e-12 * extent**2)
     _raise(
         DomainError,
-        [
-            f"{_block_label(blocks, int(b))} has zero area: its corners lie on one line"
-            for b in flat
-        ],
+        [f"{block_label(blocks, int(b))} has zero area: its corners lie on one line" for b in flat],
     )
     clockwise = np.flatnonzero(areas < 0)
     if clockwise.size:
@@ -639,7 +632,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             _raise(
                 DomainError,
                 [
-                    f"{_block_label(blocks, int(b))} runs clockwise; list its corners "
+                    f"{block_label(blocks, int(b))} runs clockwise; list its corners "
                     "counter-clockwise"
                     for b in clockwise
                 ],
@@ -664,7 +657,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
     crossing = ~np.isclose(turning, 360.0, atol=1e-6)
     problems = []
     for b in np.flatnonzero(np.any(straight | wrong, axis=1) | crossing).tolist():
-        label = _block_label(blocks, int(b))
+        label = block_label(blocks, int(b))
         for k in range(5):
             v = blocks[b, k]
             if straight[b, k]:

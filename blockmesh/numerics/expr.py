@@ -39,14 +39,20 @@ from __future__ import annotations
 import ast
 import math
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ExpressionError
-from blockmesh.numerics.polynomial import MAX_POLYNOMIAL_DEGREE, Polynomial, expand
+from blockmesh.numerics.polynomial import (
+    MAX_POLYNOMIAL_DEGREE,
+    Polynomial,
+    expand,
+    polynomial_from_mapping,
+)
+from blockmesh.numerics.syntax import CONSTANTS, chain_links, is_chain
 
 __all__ = [
     "CONSTANTS",
@@ -57,6 +63,7 @@ __all__ = [
     "MAX_POLYNOMIAL_DEGREE",
     "Expression",
     "Polynomial",
+    "as_polynomial",
     "parse_expression",
 ]
 
@@ -67,8 +74,6 @@ MAX_DEPTH = 100
 #: Largest ``|p|`` accepted for a constant exponent ``p``.
 MAX_EXPONENT = 1000
 
-#: Named constants.
-CONSTANTS: dict[str, float] = {"pi": math.pi, "e": math.e}
 
 #: Whitelisted functions: name -> (number of arguments, numpy ufunc).
 FUNCTIONS: dict[str, tuple[int, Callable[..., np.ndarray]]] = {
@@ -145,6 +150,36 @@ _NOT_ALLOWED = {
 }
 
 _Compiled = float | Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+def as_polynomial(polynomial: object) -> Polynomial:
+    """A polynomial ``{(a, b): coefficient}`` from an expression string, Expression or mapping.
+
+    Mapping coefficients may be ints, Fractions, Decimals or floats (kept as given; see
+    :func:`~blockmesh.numerics.polynomial.polynomial_from_mapping`).
+
+    Raises
+    ------
+    ExpressionError
+        For an expression that is not a polynomial.
+    ArgumentTypeError, ArgumentError
+        For a value that is neither, or a mapping with bad keys or coefficients.
+
+    Examples
+    --------
+    >>> as_polynomial("x^2 - 0.5*y")
+    {(0, 1): Fraction(-1, 2), (2, 0): Fraction(1, 1)}
+    """
+    if isinstance(polynomial, str):
+        return parse_expression(polynomial).polynomial()
+    if isinstance(polynomial, Expression):
+        return polynomial.polynomial()
+    if not isinstance(polynomial, Mapping):
+        raise ArgumentTypeError(
+            "a polynomial must be an expression string or a mapping {(a, b): coefficient}, "
+            f"not {type(polynomial).__name__}"
+        )
+    return polynomial_from_mapping(polynomial)
 
 
 def parse_expression(text: str) -> Expression:
@@ -327,7 +362,7 @@ class Expression:
                     node, f"the expression is nested too deeply (at most {MAX_DEPTH} levels)"
                 )
             for child in ast.iter_child_nodes(node):
-                chained = _is_chain(node) and child is getattr(node, "left", None)
+                chained = is_chain(node) and child is getattr(node, "left", None)
                 stack.append((child, depth if chained else depth + 1))
 
     def _build(self, node: ast.AST) -> _Compiled:
@@ -405,14 +440,14 @@ class Expression:
     def _binary(self, node: ast.BinOp) -> _Compiled:
         if isinstance(node.op, ast.Pow):
             return self._power(node)
-        for link in _chain(node):
+        for link in chain_links(node):
             op = type(link.op)
             if op not in _BINARY:
                 self._fail_node(
                     link, f"operator {_OPERATOR_TEXT.get(op, op.__name__)!r} is not allowed"
                 )
         # A left-associated chain a op b op c ... is compiled as one loop, not nested closures.
-        links = _chain(node)
+        links = chain_links(node)
         acc = self._build(links[0].left)
         steps: list[tuple[Callable, _Compiled]] = []
         for link in links:
@@ -530,20 +565,6 @@ def _span(node: ast.AST) -> tuple[int, int]:
 
 def _leading_spaces(text: str) -> int:
     return len(text) - len(text.lstrip())
-
-
-def _is_chain(node: ast.AST) -> bool:
-    return isinstance(node, ast.BinOp) and not isinstance(node.op, ast.Pow)
-
-
-def _chain(node: ast.BinOp) -> list[ast.BinOp]:
-    """The links of a left-associated chain ``((a op b) op c) ...``, innermost first."""
-    links: list[ast.BinOp] = []
-    link: ast.expr = node
-    while isinstance(link, ast.BinOp) and not isinstance(link.op, ast.Pow):
-        links.append(link)
-        link = link.left
-    return links[::-1]
 
 
 def _loop(first: _Compiled, steps: tuple[tuple[Callable, _Compiled], ...]) -> Callable:

@@ -12,7 +12,7 @@ Examples
 >>> from blockmesh.numerics.expr import parse_expression
 >>> expand(parse_expression("(0.2*x + 0.3*y)^2"))
 {(0, 2): Fraction(9, 100), (1, 1): Fraction(3, 25), (2, 0): Fraction(1, 25)}
->>> as_polynomial({(1, 2): 3})
+>>> polynomial_from_mapping({(1, 2): 3})
 {(1, 2): Fraction(3, 1)}
 >>> expand(parse_expression("pi * x^2 * 1e300 * 1e300"))
 Traceback (most recent call last):
@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError
+from blockmesh.numerics.syntax import CONSTANTS, chain_links
 
 if TYPE_CHECKING:
     from blockmesh.numerics.expr import Expression
@@ -42,9 +43,9 @@ __all__ = [
     "MAX_EXPANSION_WORK",
     "MAX_POLYNOMIAL_DEGREE",
     "Polynomial",
-    "as_polynomial",
     "degree",
     "expand",
+    "polynomial_from_mapping",
 ]
 
 #: Largest total degree :func:`expand` expands to.
@@ -84,11 +85,7 @@ class _Expander:
     """Walks an Expression's vetted tree bottom-up into a Polynomial."""
 
     def __init__(self, expression: Expression) -> None:
-        from blockmesh.numerics.expr import CONSTANTS, _chain
-
         self.expression = expression
-        self.constants = CONSTANTS
-        self.chain = _chain
         self.budget = MAX_EXPANSION_WORK
 
     def run(self) -> Polynomial:
@@ -117,7 +114,7 @@ class _Expander:
                 return {(1, 0): Fraction(1)}
             if node.id == "y":
                 return {(0, 1): Fraction(1)}
-            return _constant(self.constants[node.id])
+            return _constant(CONSTANTS[node.id])
         if isinstance(node, ast.UnaryOp):
             operand = self.node(node.operand)
             return operand if isinstance(node.op, ast.UAdd) else {k: -c for k, c in operand.items()}
@@ -135,7 +132,7 @@ class _Expander:
             self.fail(node, f"{type(node).__name__} is not allowed")
             return {}
         if not isinstance(node.op, ast.Pow):
-            links = self.chain(node)
+            links = chain_links(node)
             acc = self.node(links[0].left)
             for link in links:
                 acc = self.step(link, acc, self.node(link.right))
@@ -203,34 +200,24 @@ class _Expander:
         return {k: c for k, c in sorted(out.items()) if c != 0}
 
 
-def as_polynomial(polynomial: object) -> Polynomial:
-    """A polynomial ``{(a, b): coefficient}`` from an expression string, Expression or mapping.
+def polynomial_from_mapping(polynomial: Mapping) -> Polynomial:
+    """A polynomial ``{(a, b): coefficient}`` checked and normalised from any mapping.
 
-    Mapping coefficients may be ints, Fractions, Decimals or floats (kept as given).
+    Coefficients may be ints, Fractions, Decimals (made exact Fractions) or floats (kept as
+    given); zero coefficients are dropped. Expressions are read by
+    :func:`blockmesh.numerics.expr.as_polynomial`.
 
     Raises
     ------
-    ExpressionError
-        For an expression that is not a polynomial.
-    ArgumentTypeError, ArgumentError
-        For a value that is neither, or a mapping with bad keys or coefficients.
+    ArgumentError, ArgumentTypeError
+        For a key that is not a pair of whole numbers, a degree over the limit, or a coefficient
+        that is not a finite number.
 
     Examples
     --------
-    >>> as_polynomial("x^2 - 0.5*y")
-    {(0, 1): Fraction(-1, 2), (2, 0): Fraction(1, 1)}
+    >>> polynomial_from_mapping({(1, 2): 3, (0, 0): 0})
+    {(1, 2): Fraction(3, 1)}
     """
-    from blockmesh.numerics.expr import Expression, parse_expression
-
-    if isinstance(polynomial, str):
-        return parse_expression(polynomial).polynomial()
-    if isinstance(polynomial, Expression):
-        return polynomial.polynomial()
-    if not isinstance(polynomial, Mapping):
-        raise ArgumentTypeError(
-            "a polynomial must be an expression string or a mapping {(a, b): coefficient}, "
-            f"not {type(polynomial).__name__}"
-        )
     out: Polynomial = {}
     for key, coefficient in polynomial.items():
         if (

@@ -40,6 +40,7 @@ from blockmesh.curves.edges import curved_slots
 from blockmesh.curves.types import Arc, Curve, Spline
 from blockmesh.errors import ExpressionError
 from blockmesh.numerics.gauss import MAX_POINTS, gauss_legendre
+from blockmesh.quadrature.kernel import CellSums
 
 if TYPE_CHECKING:
     from blockmesh.mesh.mesh import Mesh
@@ -256,7 +257,6 @@ def exact_sums(sums: CellSums, mesh: Mesh, f, rule: Rule, n: int, exact_geometry
     """
     if not exact_geometry or mesh.curves is None or len(mesh.curves) == 0:
         return sums
-    from blockmesh.quadrature.kernel import CellSums
 
     curved = curved_cells(mesh, f, rule, n, absolute=sums.absolute is not None)
 

@@ -49,7 +49,8 @@ from blockmesh.errors import (
     ResourceError,
 )
 from blockmesh.mesh.mesh import Mesh
-from blockmesh.numerics.polynomial import as_polynomial
+from blockmesh.numerics.expr import as_polynomial
+from blockmesh.quadrature.exact_curved import curved_exact_integral
 
 __all__ = ["MAX_EXACT_WORK", "as_polynomial", "exact_integral"]
 
@@ -72,7 +73,7 @@ def exact_integral(
         arcs); a sequence of corners is one simple polygon (either orientation). Corners may be
         ints, floats (converted exactly), Fractions, Decimals or decimal strings.
     polynomial : str, Expression or mapping
-        See :func:`~blockmesh.numerics.polynomial.as_polynomial`.
+        See :func:`~blockmesh.numerics.expr.as_polynomial`.
     max_work : int
         Refuse (before any work) a request needing more big-integer steps than this.
 
@@ -142,8 +143,6 @@ def _with_curves(target: object) -> Mesh | None:
 
 
 def _curved(mesh: Mesh, poly, budget: int) -> Fraction | float:
-    from blockmesh.quadrature.exact_curved import curved_exact_integral
-
     edges = mesh.boundary_edges.shape[0]
     work = edges * sum((a + 2) * (b + 1) for a, b in poly) * 4
     if work > budget:

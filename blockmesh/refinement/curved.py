@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from blockmesh.curves.edges import CurvedEdges, curved_slots, edge_points
+from blockmesh.refinement.smoothing import smooth_interior
 from blockmesh.refinement.template import node_count, pentagon_template
 
 if TYPE_CHECKING:
@@ -163,8 +164,6 @@ def curved_block_levels(
 
 def _smooth_cells(xy: np.ndarray, step: int, fixed: np.ndarray, sweeps: int) -> None:
     """Laplacian sweeps on each cell's inner nodes at ``step`` (its edge nodes stay)."""
-    from blockmesh.refinement.smoothing import smooth_interior
-
     cells = pentagon_template(step).cells
     n = node_count(step)
     for b in range(xy.shape[0]):

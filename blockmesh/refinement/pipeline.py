@@ -25,20 +25,28 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
 import blockmesh.refinement.grouped as grouped
 from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.checks import choice, whole_number
-from blockmesh.errors import ArgumentTypeError, ResourceError
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
+from blockmesh.refinement.placement import (
+    LaplacianSmoothing,
+    PaperPlacement,
+    Placement,
+    as_placement,
+)
 from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
 from blockmesh.refinement.plan import place_level as _place_level
 from blockmesh.refinement.sizes import MeshSize, predict_size
+from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
 from blockmesh.refinement.template import node_count, pentagon_template
 
 __all__ = ["NUMBERINGS", "refine"]
@@ -46,30 +54,33 @@ __all__ = ["NUMBERINGS", "refine"]
 #: Node numberings :func:`refine` offers.
 NUMBERINGS = ("nested", "rcm")
 
-if TYPE_CHECKING:
-    from blockmesh.domain.domain import Domain
-    from blockmesh.refinement.curved import CurvedBlocks
-
 ProgressCallback = Callable[[int, int], None]
 
 
-# --------------------------------------------------------------------------- refinement
-def _block_mesh_of(target: Domain | Mesh) -> Mesh:
-    from blockmesh.domain.domain import Domain
+class BlockSource(Protocol):
+    """What :func:`refine` refines besides a Mesh: anything with a block mesh (a Domain)."""
 
+    def block_mesh(self) -> Mesh:
+        """The blocks as a level-0 mesh."""
+        ...
+
+
+# --------------------------------------------------------------------------- refinement
+def _block_mesh_of(target: BlockSource | Mesh) -> Mesh:
     if isinstance(target, Mesh):
         return target
-    if isinstance(target, Domain):
+    if callable(getattr(target, "block_mesh", None)):
         return target.block_mesh()
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
 def refine(
-    domain_or_mesh: Domain | Mesh,
+    domain_or_mesh: BlockSource | Mesh,
     level: int,
     *,
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
@@ -88,7 +99,13 @@ def refine(
         kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
     smooth : int
         Laplacian sweeps per level (see :mod:`blockmesh.refinement.smoothing`); 0 keeps the paper's
-        exact scheme.
+        exact scheme. The same as ``placement=LaplacianSmoothing(smooth)``.
+    placement : str or Placement
+        Where the nodes of every new level go (:mod:`blockmesh.refinement.placement`):
+        ``"paper"`` (default, the paper's exact scheme), ``"optimized"``, ``"angles"``, or a
+        :class:`~blockmesh.refinement.placement.Placement`. Any but the paper's refines one level
+        at a time and places the nodes after each; cells, counts, patches and regions stay the
+        paper's.
     max_memory : int, optional
         Refuse to build a mesh needing more bytes than this (default: the memory available now).
     progress : callable, optional
@@ -116,6 +133,13 @@ def refine(
     level = whole_number(level, "level")
     choice(numbering, NUMBERINGS, "numbering")
     smooth = whole_number(smooth, "smooth")
+    placement = as_placement(placement)
+    if isinstance(placement, LaplacianSmoothing):
+        if smooth not in (0, placement.sweeps):
+            raise ArgumentError(
+                f"smooth={smooth} and placement={placement!r} ask for two smoothings; give one"
+            )
+        smooth, placement = placement.sweeps, PaperPlacement()
     if max_memory is not None:
         max_memory = whole_number(max_memory, "max_memory", minimum=1)
     if threads is not None:
@@ -126,7 +150,10 @@ def refine(
     _check_memory(base, n_shared, level, max_memory)
     _check_precision(base, level)
     try:
-        mesh = _build(base, neighbour, level, smooth, progress, threads)
+        if placement.nested:
+            mesh = _build(base, neighbour, level, smooth, progress, threads)
+        else:
+            mesh = _build_placed(base, level, smooth, placement, progress, threads)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -135,6 +162,19 @@ def refine(
         ) from None
     if numbering == "rcm":
         mesh = mesh.with_rcm_numbering()
+    return mesh
+
+
+def _build_placed(
+    base: Mesh, level: int, smooth: int, placement: Placement, progress, threads: int | None
+) -> Mesh:
+    """One level at a time, the nodes of each new level placed by ``placement``."""
+    mesh = base
+    for step in range(level):
+        neighbour = cell_neighbours(mesh.cells, mesh.n_points)
+        mesh = placement.after_level(_build(mesh, neighbour, 1, smooth, None, threads))
+        if progress is not None:
+            progress(step + 1, level)
     return mesh
 
 
@@ -151,8 +191,6 @@ def _build(
     With smoothing, every block is refined at once level by level (the sweeps cross blocks) and
     the curved cells are then recomputed by :func:`~blockmesh.refinement.curved.place_on_curves`.
     """
-    from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
-
     has_curves = base.curves is not None and len(base.curves) > 0
     if smooth:
         mesh = _build_smoothed(base, neighbour, level, smooth, progress)
@@ -172,20 +210,18 @@ def _build(
 
 def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
     """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
-    from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
-
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     edge_ids = edge_id_table(plan)
-    ids = group_node_ids(plan, 0, base.n_cells, edge_ids)
     template = pentagon_template(level)
+    ids = group_node_ids(plan, 0, base.n_cells, edge_ids, template=template)
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
     local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
     points = np.empty(plan.n_nodes, dtype=np.complex128)
-    fixed = block_edge_nodes(ids, level)
+    fixed = block_edge_nodes(ids, template)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
         _place_level(local, template.steps[step - 1], lo)
-        level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
+        level_cells = ids[:, template.cells_of_level(step)].reshape(-1, 5)
         points[ids[:, :hi]] = local[:, :hi]
         n_level = int(ids[:, :hi].max()) + 1
         xy = points.view(np.float64).reshape(-1, 2)

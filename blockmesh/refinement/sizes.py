@@ -30,8 +30,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from blockmesh._system.memory import process_rss
+from blockmesh._system.memory import format_bytes, process_rss
+from blockmesh._system.threads import default_threads
 from blockmesh.errors import ResourceError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.grouped import BLOCK_LEVEL, workspace_bytes
 from blockmesh.refinement.template import TEMPLATE_CACHE_BYTES, node_count, template_is_alive
 
 __all__ = [
@@ -183,9 +186,6 @@ def refinement_working_bytes(
     sparse adjacency. A template (about :data:`TEMPLATE_BYTES_PER_CELL` bytes per cell of its
     level) is counted unless the template cache already holds it.
     """
-    from blockmesh._system.threads import default_threads
-    from blockmesh.refinement.grouped import BLOCK_LEVEL, workspace_bytes
-
     if smooth:
         working = 41 * node_count(steps) * n_blocks + 200 * n_blocks * 6**steps
         template_level = steps
@@ -240,7 +240,6 @@ def predict_mesh_command(
         ("refinement", base + mesh + refinement_working_bytes(n_blocks, steps, smooth=smooth))
     ]
     # A template the refinement builds stays cached for the later stages when it fits the cache.
-    from blockmesh.refinement.grouped import BLOCK_LEVEL
 
     template_level = steps if smooth else min(steps, BLOCK_LEVEL)
     template = TEMPLATE_BYTES_PER_CELL * 6**template_level
@@ -302,8 +301,6 @@ def check_fits(
     ...
     blockmesh.errors.ResourceError: sp at level 9 needs about ... (refinement), ... fits is 8
     """
-    from blockmesh._system.memory import format_bytes
-
     prediction = predict(level)
     if prediction.peak_bytes <= limit:
         return prediction
@@ -332,9 +329,6 @@ def mesh_command_predictor(target, **stages: Any) -> Callable[[int], MemoryPredi
     >>> [stage for stage, _ in predict(7).stages]
     ['refinement', 'report', 'plot']
     """
-    from blockmesh.mesh.mesh import Mesh
-    from blockmesh.refinement.sizes import predict_size
-
     if isinstance(target, Mesh):
         n_boundary = int(target.boundary_edges.shape[0])
         counts = (target.n_cells, target.n_points, (5 * target.n_cells - n_boundary) // 2)

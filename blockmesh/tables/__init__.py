@@ -35,6 +35,7 @@ from blockmesh.tables.data import (
     pentagon_title,
     table_orders,
 )
+from blockmesh.tables.plot import plot_convergence
 from blockmesh.tables.report import format_table, write_csv
 
 __all__ = [
@@ -61,7 +62,5 @@ __all__ = [
 def __getattr__(name: str) -> object:
     """``plot_convergence`` from :mod:`blockmesh.tables.plot` (kept here for old imports)."""
     if name == "plot_convergence":
-        from blockmesh.tables.plot import plot_convergence
-
         return plot_convergence
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blockmesh.plot import pyplot, save_figure
 from blockmesh.tables.compute import PaperTable
 from blockmesh.tables.data import PENTAGONS, TOLERANCE, PaperCase
 
@@ -28,8 +29,6 @@ def plot_convergence(results: list[PaperTable], path: str | Path) -> Path:
     ``1e-17`` are drawn at ``1e-17``; the dashed line is the round-off floor ``1e-13``. The file
     is written atomically (:func:`blockmesh.plot.save_figure`).
     """
-    from blockmesh.plot import pyplot, save_figure
-
     plt = pyplot()
 
     tables = sorted({r.case.table for r in results})

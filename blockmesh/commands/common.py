@@ -16,6 +16,7 @@ from blockmesh.commands._progress import StageProgress
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
+from blockmesh.io import FORMATS, read
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
@@ -112,7 +113,6 @@ def is_mesh_file(name: str) -> bool:
     path = Path(name)
     if not path.exists():  # a catalogue name: the formats are not imported
         return False
-    from blockmesh.io import FORMATS
 
     suffix = path.suffix.lower()
     extensions = {ext for fmt in FORMATS.values() if fmt.can_read for ext in fmt.extensions}
@@ -127,7 +127,6 @@ def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
     """
     if not is_mesh_file(name):
         return load_domain(name)
-    from blockmesh.io import read
 
     try:
         with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):
@@ -302,6 +301,7 @@ class ProgressBar:
         return sys.stdout.isatty() and not getattr(args, "json", False)
 
     def __call__(self, done: int, total: int) -> None:
+        """Redraw the bar at ``done`` of ``total`` (nothing when not enabled)."""
         if not self.enabled:
             return
         width = 30

@@ -53,12 +53,12 @@ def test_the_largest_level_offered_does_fit(capsys):
 
 
 def test_running_out_of_memory_while_writing_is_a_located_error(capsys, tmp_path, monkeypatch):
-    import blockmesh.io
+    import blockmesh.commands.mesh
 
     def exhausted(*args, **kwargs):
         raise MemoryError
 
-    monkeypatch.setattr(blockmesh.io, "write", exhausted)
+    monkeypatch.setattr(blockmesh.commands.mesh, "write", exhausted)
     target = tmp_path / "m.vtu"
     code, out, err = run_cli(capsys, "mesh", "sp", "--level", "3", "-o", str(target))
     assert code == 2 and out == "" and "Traceback" not in err
@@ -134,6 +134,7 @@ def test_reading_a_mesh_file_shows_a_stage_line(capsys, tmp_path, monkeypatch, c
     """A slow read gets its line like the other stages (on a terminal, without --json)."""
     import time
 
+    import blockmesh.commands.common
     import blockmesh.io
 
     path = tmp_path / "m.npz"
@@ -144,7 +145,7 @@ def test_reading_a_mesh_file_shows_a_stage_line(capsys, tmp_path, monkeypatch, c
         time.sleep(0.1)
         return real_read(*args, **kwargs)
 
-    monkeypatch.setattr(blockmesh.io, "read", slow_read)
+    monkeypatch.setattr(blockmesh.commands.common, "read", slow_read)
     monkeypatch.setattr(progress_module, "SHOW_AFTER", 0.0)
     monkeypatch.setattr(progress_module, "_TICK", 0.01)
     monkeypatch.setattr(StageProgress, "wanted", staticmethod(lambda args: True))

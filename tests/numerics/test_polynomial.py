@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ExpressionError
-from blockmesh.numerics.expr import parse_expression
-from blockmesh.numerics.polynomial import MAX_POLYNOMIAL_DEGREE, as_polynomial, degree
+from blockmesh.numerics.expr import as_polynomial, parse_expression
+from blockmesh.numerics.polynomial import MAX_POLYNOMIAL_DEGREE, degree
 
 
 def test_decimal_literals_are_exact():
