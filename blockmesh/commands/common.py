@@ -12,11 +12,11 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh import io as mesh_io
 from blockmesh.commands._progress import StageProgress
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
-from blockmesh import io as mesh_io
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
