@@ -270,8 +270,8 @@ def vem_cook(method: str, size: int, mesh, **options) -> Run:
                 mesh,
                 young=1.0,
                 poisson=1 / 3,
-                displacement={"clamped": (0, 0)},
-                traction={"loaded": (0, 1 / 16)},
+                dirichlet={"clamped": (0, 0)},
+                neumann={"loaded": (0, 1 / 16)},
                 **options,
             ),
         )
@@ -299,8 +299,8 @@ def vem_kirsch(method: str, size: int, mesh) -> Run:
                 mesh,
                 young=1.0,
                 poisson=0.3,
-                displacement={"left": (0, "free"), "down": ("free", 0)},
-                traction={"right": (sxx, sxy), "up": (sxy, syy)},
+                dirichlet={"left": (0, "free"), "down": ("free", 0)},
+                neumann={"right": (sxx, sxy), "up": (sxy, syy)},
                 order=4,
             ),
         )

@@ -19,7 +19,6 @@ True
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
 
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, corner_sines
 from blockmesh.refinement.template import PentagonTemplate
@@ -52,6 +51,8 @@ def smooth_interior(
     it shares an edge with, then puts back, repeatedly, the nodes of any cell that is no longer
     strictly convex. O(sweeps * M) per call.
     """
+    from scipy.sparse import coo_matrix  # 0.7 s to import: only when smoothing runs
+
     start = cells.ravel()
     stop = np.roll(cells, -1, axis=1).ravel()
     adjacency = coo_matrix(
