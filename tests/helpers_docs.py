@@ -245,8 +245,14 @@ def _run_command(command: str, shown: list[str], folder: Path, where: str) -> No
         assert first.strip() in out, report
 
 
-def run_example(example: Example, folder: Path, capfd: pytest.CaptureFixture[str]) -> None:
-    """Run one example in ``folder`` (the current directory), as its page shows it."""
+def run_example(
+    example: Example,
+    folder: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    """Run one example in ``folder`` (made the current directory), as its page shows it."""
+    monkeypatch.chdir(folder)
     where = f"{example.page} line {example.line}"
     for key, reason in SKIP.items():
         if key in example.text:

@@ -16,8 +16,7 @@ def test_readme_example_runs(
     monkeypatch: pytest.MonkeyPatch,
     capfd: pytest.CaptureFixture[str],
 ) -> None:
-    monkeypatch.chdir(tmp_path)
-    run_example(example, tmp_path, capfd)
+    run_example(example, tmp_path, monkeypatch, capfd)
 
 
 def test_readme_examples_are_found() -> None:

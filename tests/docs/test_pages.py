@@ -33,8 +33,7 @@ def test_page_example_runs(
     monkeypatch: pytest.MonkeyPatch,
     capfd: pytest.CaptureFixture[str],
 ) -> None:
-    monkeypatch.chdir(tmp_path)
-    run_example(example, tmp_path, capfd)
+    run_example(example, tmp_path, monkeypatch, capfd)
 
 
 def test_every_kind_of_example_is_found() -> None:
