@@ -52,6 +52,7 @@ from .mesh import Mesh
 from .refinement import refine
 
 __all__ = [
+    "ANGLE_TIE",
     "QUALITY_RULES",
     "SIZE_TARGETS",
     "PlacementReport",
@@ -325,8 +326,23 @@ def optimize_nodes(
     return better
 
 
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    """``a · b`` summed in one fixed order (numpy's pairwise sum), whatever the BLAS threads.
+
+    ``a @ b`` is BLAS's ``ddot``, which OpenBLAS splits over its threads for long vectors (above
+    about 10,000 entries): each thread's partial sum rounds differently, so the same placement
+    differed in the last bits with ``OPENBLAS_NUM_THREADS=1`` and ``2``, and the descent, which
+    amplifies such bits, ended at worst angles that differed from the eighth digit on.
+    """
+    return float(np.add.reduce(a * b))
+
+
 def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
-    """Limited-memory BFGS with backtracking (Armijo); infinite energies are rejected steps."""
+    """Limited-memory BFGS with backtracking (Armijo); infinite energies are rejected steps.
+
+    Every inner product is :func:`_dot`, so the iterates are the same bits for any number of
+    BLAS threads.
+    """
     value, gradient = energy(z, True)
     history: list[tuple[np.ndarray, np.ndarray, float]] = []
     done = 0
@@ -334,20 +350,20 @@ def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
         q = gradient.copy()
         alphas = []
         for s, y, rho in reversed(history):
-            alpha = rho * (s @ q)
+            alpha = rho * _dot(s, q)
             q -= alpha * y
             alphas.append(alpha)
         if history:
             s, y, _ = history[-1]
-            q *= (s @ y) / (y @ y)
+            q *= _dot(s, y) / _dot(y, y)
         else:
             q *= 1e-2 / max(float(np.abs(q).max()), 1e-300)
         for (s, y, rho), alpha in zip(history, reversed(alphas), strict=True):
-            q += s * (alpha - rho * (y @ q))
+            q += s * (alpha - rho * _dot(y, q))
         step = -q
-        slope = float(gradient @ step)
+        slope = _dot(gradient, step)
         if slope >= 0:
-            step, slope, history = -gradient, -float(gradient @ gradient), []
+            step, slope, history = -gradient, -_dot(gradient, gradient), []
         t = 1.0
         while True:
             trial, _ = energy(z + t * step, False)
@@ -359,8 +375,9 @@ def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
         z_new = z + t * step
         value_new, gradient_new = energy(z_new, True)
         s, y = z_new - z, gradient_new - gradient
-        if s @ y > 1e-300:
-            history.append((s, y, 1.0 / (s @ y)))
+        sy = _dot(s, y)
+        if sy > 1e-300:
+            history.append((s, y, 1.0 / sy))
             history = history[-memory:]
         improvement = value - value_new
         z, value, gradient = z_new, value_new, gradient_new
@@ -369,14 +386,38 @@ def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
     return z, value, done
 
 
+#: Worst angles (degrees) this close to the best are a tie in :func:`inner_point_rule`. Candidates
+#: whose worst corner is one the inner points do not touch have the same worst angle computed
+#: from different points: equal but for rounding (3e-14 degrees apart was seen), so a plain
+#: maximum picked among them by that noise.
+ANGLE_TIE = 1e-9
+
+
+def _pick_fraction(fractions: np.ndarray, angles: np.ndarray) -> int | None:
+    """The index of the fraction :func:`inner_point_rule` takes, or None if no candidate is valid.
+
+    The largest worst angle wins; candidates within :data:`ANGLE_TIE` of it are a tie, won by the
+    fraction nearest the paper's 1/2, then by the smaller one. The choice depends on the set of
+    (fraction, angle) pairs only, not on their order or on rounding noise in equal angles.
+    """
+    valid = np.isfinite(angles)
+    if not valid.any():
+        return None
+    tied = np.flatnonzero(valid & (angles >= angles[valid].max() - ANGLE_TIE))
+    order = np.lexsort((fractions[tied], np.abs(fractions[tied] - 0.5)))
+    return int(tied[order[0]])
+
+
 def inner_point_rule(
     target, level: int, *, fractions: tuple[float, ...] = (0.35, 0.4, 0.45, 0.5, 0.55, 0.6)
 ) -> Mesh:
     """Refine level by level, each time with the inner points ``w = p + t (u - p)``.
 
-    ``t`` is chosen per level among ``fractions`` to maximise the worst angle of the new level
-    (``t = 1/2`` is the paper's rule). Nested (old nodes never move), conforming, and with the
-    paper's counts.
+    ``t`` is chosen per level among ``fractions`` (each in (0, 1)) to maximise the worst angle of
+    the new level (``t = 1/2`` is the paper's rule). Worst angles within :data:`ANGLE_TIE` degrees
+    of the best tie, and a tie goes to the fraction nearest 1/2 (then the smaller): the choice does
+    not depend on the order of ``fractions`` or on rounding. Nested (old nodes never move),
+    conforming, and with the paper's counts.
 
     Examples
     --------
@@ -387,25 +428,48 @@ def inner_point_rule(
     (216, True)
     """
     level = whole_number(level, "level")
+    ts = _check_fractions(fractions)
     mesh = refine(target, 0)
     for _ in range(level):
         child = refine(mesh, 1)
-        parents = mesh.cells
-        centre = mesh.points[parents].mean(axis=1)  # the paper's p, per parent
-        cells = child.cells.reshape(-1, 6, 5)
-        inner = cells[:, 5, :]  # w_1..w_5 of every parent
-        mids = cells[:, :5, 1]  # u_k is corner 1 of child k
-        best, best_angle = child, -np.inf
-        for t in fractions:
-            xy = child.points.copy()
-            moved = centre[:, None, :] + t * (child.points[mids] - centre[:, None, :])
-            xy[inner.ravel()] = moved.reshape(-1, 2)
-            trial = child.with_points(xy)
-            quality = trial.quality()
-            if quality.not_strictly_convex == 0 and quality.min_angle > best_angle:
-                best, best_angle = trial, quality.min_angle
-        mesh = best
+        centre = mesh.points[mesh.cells].mean(axis=1)  # the paper's p, per parent
+        angles = np.full(ts.size, -np.inf)  # one trial mesh at a time in memory
+        for k, t in enumerate(ts):
+            quality = _inner_points_at(child, centre, float(t)).quality()
+            if quality.not_strictly_convex == 0:
+                angles[k] = quality.min_angle
+        best = _pick_fraction(ts, angles)
+        mesh = child if best is None else _inner_points_at(child, centre, float(ts[best]))
     return mesh
+
+
+def _inner_points_at(child: Mesh, centre: np.ndarray, t: float) -> Mesh:
+    """``child`` (one level of the paper's refinement) with ``w = p + t (u - p)`` per parent."""
+    cells = child.cells.reshape(-1, 6, 5)
+    inner = cells[:, 5, :]  # w_1..w_5 of every parent
+    mids = cells[:, :5, 1]  # u_k is corner 1 of child k
+    xy = child.points.copy()
+    moved = centre[:, None, :] + t * (child.points[mids] - centre[:, None, :])
+    xy[inner.ravel()] = moved.reshape(-1, 2)
+    return child.with_points(xy)
+
+
+def _check_fractions(fractions: object) -> np.ndarray:
+    """``fractions`` as a float array, or a located error: a non-empty sequence in (0, 1)."""
+    try:
+        ts = np.array(fractions, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(
+            f"fractions must be a sequence of numbers, got {fractions!r}"
+        ) from None
+    if ts.ndim != 1 or ts.size == 0:
+        raise ArgumentError(f"fractions must be a non-empty sequence of numbers, got {fractions!r}")
+    outside = np.flatnonzero(~((ts > 0) & (ts < 1)))
+    if outside.size:
+        raise ArgumentError(
+            f"fractions must lie in (0, 1): fractions[{outside[0]}] = {float(ts[outside[0]])!r}"
+        )
+    return ts
 
 
 def refine_with_rule(
