@@ -15,6 +15,7 @@ from helpers import (
     assert_blocks_tile,
     assert_patches_follow_edges,
     boolean_polygon,
+    examples,
     polygon_with_holes,
 )
 from hypothesis import HealthCheck, assume, given, settings
@@ -25,8 +26,8 @@ from blockmesh.geometry import is_strictly_convex
 from blockmesh.refinement import predict_size
 from blockmesh.topology import edge_keys
 
-SETTINGS = settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-MANY = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=examples(10), suppress_health_check=[HealthCheck.too_slow])
+MANY = settings(max_examples=examples(150), suppress_health_check=[HealthCheck.too_slow])
 
 
 def _edge_patch_of(outer_patches, n_holes):
@@ -70,7 +71,7 @@ def test_star_polygons_with_holes_tile_exactly_many(case, split):
     _star_polygons_with_holes_tile_exactly(case, split)
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(40), suppress_health_check=[HealthCheck.too_slow])
 @given(boolean_polygon())
 def test_unions_and_differences_of_convex_polygons(shape):
     assume(not shape.is_empty and shape.is_valid and shape.area > 1e-2)
@@ -90,7 +91,7 @@ def test_unions_and_differences_of_convex_polygons(shape):
     )
 
 
-@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(8), suppress_health_check=[HealthCheck.too_slow])
 @given(polygon_with_holes(n_max=24, holes_max=2))
 def test_refinement_invariants_on_random_domains(case):
     outer, holes = case

@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 import pytest
-from helpers import CATALOGUE
+from helpers import CATALOGUE, sweep
 
 import blockmesh
 from blockmesh.errors import ArgumentError, ArgumentTypeError
@@ -42,7 +42,7 @@ def _fixed_boundary_nodes(mesh):
     return np.array(fixed)
 
 
-@pytest.mark.parametrize("name", CATALOGUE)
+@pytest.mark.parametrize("name", sweep(CATALOGUE))
 def test_optimized_nodes_keep_the_mesh_and_improve_its_shapes(name):
     mesh = blockmesh.load_domain(name).mesh(2)
     better, report = optimize_nodes(mesh, iterations=60, report=True)
