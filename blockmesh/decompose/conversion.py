@@ -46,6 +46,7 @@ from ..errors import BlockMeshError, BlockMeshWarning, DomainError, DomainFormat
 from ..geometry import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
 from .optimise import improve_angles
 from .pieces import pentagons_from_pieces
+from .triangulate import constrained_delaunay
 
 __all__ = ["convert_mesh", "read_element_mesh"]
 
@@ -430,7 +431,7 @@ def _convex_parts(local: np.ndarray, corners: np.ndarray) -> list[np.ndarray]:
     import shapely
 
     polygon = shapely.Polygon(local[corners])
-    parts = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
+    parts = shapely.get_parts(constrained_delaunay(polygon))
     ids = {tuple(p): k for p, k in zip(local[corners].tolist(), corners.tolist(), strict=True)}
     out = []
     for tri in parts:
