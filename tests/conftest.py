@@ -41,3 +41,12 @@ def catalogue_domain(request, catalogue) -> blockmesh.Domain:
 @pytest.fixture
 def sp_points() -> np.ndarray:
     return np.array(SP)
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    """Which hypothesis profile runs, and its examples per property."""
+    name = getattr(settings, "get_current_profile_name", lambda: "?")()
+    return (
+        f"hypothesis profile {name!r}: {settings.default.max_examples} examples per property "
+        f"(full counts: HYPOTHESIS_PROFILE=ci)"
+    )
