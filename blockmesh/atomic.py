@@ -20,6 +20,9 @@ Temporary names are ``.NAME.HOST-PID-RANDOM.tmp`` (and ``.old`` for a folder mov
 write to the same target removes those whose process no longer runs on this machine: what a
 killed run left behind (see :func:`clean_stale`).
 
+A Ctrl-C (or SIGTERM, SIGHUP) that arrived during the write stops it before the commit even if
+a finaliser swallowed its exception (:func:`blockmesh.interrupts.raise_pending`).
+
 Operating-system failures (no space left, read-only file system, permission denied, a path
 component that is not a folder) become one :class:`~blockmesh.errors.ExportError` naming the
 target and the cause.
@@ -48,6 +51,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from .errors import ArgumentTypeError, ExportError
+from .interrupts import raise_pending
 from .libc import libc_function
 
 __all__ = [
@@ -385,6 +389,7 @@ def atomic_file(target: Path) -> Iterator[Path]:
         try:
             yield tmp
             os.chmod(tmp, _mode_for(target, 0o666))
+            raise_pending()  # Ctrl-C swallowed by a finaliser during the write: no commit
             os.replace(tmp, target)
         finally:
             _unlink(tmp)
@@ -408,6 +413,7 @@ def atomic_files(*targets: Path) -> Iterator[tuple[Path, ...]]:
             yield tuple(temps)
             for tmp, t in zip(temps, targets, strict=True):
                 os.chmod(tmp, _mode_for(t, 0o666))
+            raise_pending()
             _replace_all(temps, list(targets))
         finally:
             for tmp in temps:
@@ -514,6 +520,7 @@ def atomic_dir(target: Path) -> Iterator[Path]:
         try:
             yield tmp
             os.chmod(tmp, _mode_for(target, 0o777))
+            raise_pending()
             _swap_in(tmp, target)
         finally:
             _remove(tmp)
@@ -591,6 +598,7 @@ def atomic_with_data(
             os.chmod(light_tmp, mode)
             os.chmod(data_tmp, mode)
             with _folder_lock(light.parent):
+                raise_pending()
                 os.replace(data_tmp, data)
                 try:
                     os.replace(light_tmp, light)

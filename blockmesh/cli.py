@@ -15,17 +15,15 @@ True
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
-import signal
 import sys
-import threading
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 
 from . import __version__
 from .commands import SUMMARIES, load
 from .errors import BlockMeshError
+from .interrupts import Terminated, raise_pending, stop_on_signals
 
 __all__ = ["Terminated", "build_parser", "main"]
 
@@ -56,33 +54,6 @@ def _show_warning(message, *_details: object, **_where: object) -> None:
     print(f"blockmesh: warning: {message}", file=sys.stderr)
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM or SIGHUP arrived: unwound like Ctrl-C, so no output is left half-written."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signum)
-        self.signum = signum
-
-
-def _terminate(signum: int, _frame: object) -> None:
-    raise Terminated(signum)
-
-
-@contextlib.contextmanager
-def _signals_as_interrupts() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise :class:`Terminated` while a command runs (main thread only)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    wanted = [getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
-    previous = {signum: signal.signal(signum, _terminate) for signum in wanted}
-    try:
-        yield
-    finally:
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
-
-
 def _remove_pending() -> None:
     """Remove temporaries a signal stranded between their creation and their ``try``."""
     atomic = sys.modules.get("blockmesh.atomic")  # not imported: nothing was written
@@ -103,10 +74,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser(chosen if chosen in SUMMARIES else "")
     args = parser.parse_args(argv)
     where = f"blockmesh {args.command}"
-    with warnings.catch_warnings(), _signals_as_interrupts():
+    with warnings.catch_warnings(), stop_on_signals():
         warnings.showwarning = _show_warning
         try:
-            return int(args.run(args))
+            code = int(args.run(args))
+            raise_pending()  # a signal a finaliser swallowed still stops the command
+            return code
         except BlockMeshError as error:
             print(f"{where}: error: {_printable(str(error))}", file=sys.stderr)
             return 2
