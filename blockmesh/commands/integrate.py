@@ -212,8 +212,9 @@ def run(args: argparse.Namespace) -> int:
             )  # fmt: skip
         elif args.exact_geometry:
             print(
-                "  geometry        straight: no curved edges here (a mesh read from a file "
-                "keeps its nodes on the curves but not the curves)"
+                "  geometry        straight: no curved edges here (a .msh, .vtk, .mat or OpenFOAM "
+                "file keeps the nodes on the curves but not the curves; .npz, .xdmf and .vtu "
+                "keep them)"
             )
         if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):

@@ -17,8 +17,11 @@ region, named ``patch:NAME`` and ``region:NAME``, whose value is the index the `
 ``region`` arrays use (ParaView lists them in its Information panel: ``patch:inlet  [1, 1]``).
 Text arrays would show better, but meshio cannot read them. The names, the level and the mesh
 name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its UTF-8 bytes), which
-blockmesh reads back. meshio does not write field data, so it is added to the XML after meshio
-has written the file; meshio and VTK read it back.
+blockmesh reads back. A mesh with curved edges also has the field data arrays of
+:data:`~blockmesh.io._common.CURVE_ARRAYS` (``curve_edges`` flattened, ``curve_index``,
+``curve_start``, ``curve_stop``, and ``curve_shapes``, the bytes of a JSON list), so that
+refining the mesh read back follows its curves. meshio does not write field data, so it is added
+to the XML after meshio has written the file; meshio and VTK read it back.
 
 Reading: the files blockmesh writes are decoded in chunks straight into the mesh's arrays
 (:mod:`blockmesh.io.vtu_stream`, about 1.7x the mesh at its peak); other VTU files, and damaged
@@ -57,7 +60,15 @@ if TYPE_CHECKING:
 from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
-from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
+from ._common import (
+    Format,
+    curve_arrays,
+    curves_from_arrays,
+    decode_metadata,
+    encode_metadata,
+    mesh_from_arrays,
+    name_lookup,
+)
 from .vtu_stream import read_stream
 
 __all__ = [
@@ -75,8 +86,11 @@ __all__ = [
 _FIELD = "blockmesh"
 
 
-def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
-    """The field data of a VTK file of ``mesh``: the name lookups and the JSON metadata.
+def field_data(mesh: Mesh, *, curves: bool = True) -> dict[str, np.ndarray]:
+    """The field data of a VTK file of ``mesh``: name lookups, metadata, curved edges.
+
+    That is the ``KIND:NAME`` lookups, the JSON metadata and, with ``curves``, the curved edges
+    (:func:`~blockmesh.io._common.curve_arrays`, flattened).
 
     Examples
     --------
@@ -92,13 +106,16 @@ def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
         for name, index in name_lookup(kind, names).items()
     }
     data[_FIELD] = np.frombuffer(encode_metadata(mesh).encode("utf-8"), dtype=np.uint8)
+    if curves:
+        data.update({k: v.reshape(-1) for k, v in curve_arrays(mesh).items()})
     return data
 
 
 def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
     arrays = []
+    kinds = {"u": "UInt8", "i": "Int64", "f": "Float64"}
     for name, values in data.items():
-        kind = "UInt8" if values.dtype == np.uint8 else "Int64"
+        kind = kinds[values.dtype.kind]
         text = " ".join(map(str, values.tolist()))
         arrays.append(
             f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="{values.size}" '
@@ -179,6 +196,16 @@ def _names(meta: dict, fields: dict, kind: str) -> list[str] | None:
     return [lookup[k] for k in range(len(lookup))]
 
 
+def _curves(meta: dict, fields: dict, where: str) -> dict[str, Any]:
+    """The level, name and curves arguments of :func:`mesh_from_arrays` from the field data."""
+    return {
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+        "curves": curves_from_arrays(fields, where),
+        "dropped_curves": meta.get("curved_edges", 0),
+    }
+
+
 def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
     """A :class:`Mesh` from a meshio mesh of pentagons (and boundary lines) read from ``where``.
 
@@ -224,8 +251,7 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
         "boundary_edges": edges if edges is not None else (np.empty((0, 2)) if meta else None),
         "boundary_patch": patch,
         "patch_names": patch_names,
-        "level": meta.get("level", 0),
-        "name": meta.get("name", ""),
+        **_curves(meta, vm.field_data, where),
     }
 
 
@@ -236,6 +262,7 @@ def padded_arrays(
     cell_data: dict[str, tuple[np.ndarray, np.ndarray]],
     fields: dict[str, np.ndarray],
     meta: dict,
+    where: str = "the file",
 ) -> dict[str, Any]:
     """The arguments of :func:`mesh_from_arrays` from a VTK file's arrays, read directly.
 
@@ -258,8 +285,7 @@ def padded_arrays(
         "boundary_patch": patch,
         "patch_names": _names(meta, fields, "patch")
         or (None if patch is not None else ["boundary"]),
-        "level": meta.get("level", 0),
-        "name": meta.get("name", ""),
+        **_curves(meta, fields, where),
     }
 
 
@@ -294,7 +320,7 @@ def read_vtu(path: Path) -> Mesh:
     if parts is not None:
         meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
         arrays = padded_arrays(
-            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta
+            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta, where
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
