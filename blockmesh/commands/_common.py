@@ -25,6 +25,7 @@ __all__ = [
     "fill_template",
     "inline_polygon",
     "is_mesh_file",
+    "levels_to_add",
     "load_target",
     "parse_size",
     "plural",
@@ -137,6 +138,25 @@ def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
             f"{error}. If {name} is a triangle or quadrilateral mesh rather than one blockmesh "
             "wrote, turn it into pentagonal blocks with 'blockmesh convert'"
         ) from None
+
+
+def levels_to_add(level: int | None, target: Domain | Mesh, default: int) -> int:
+    """The levels ``--level`` adds to ``target``: as given, else ``default`` (a domain), 0 (a mesh).
+
+    A mesh read from a file keeps its own level unless ``--level`` asks for more.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> domain = blockmesh.load_domain("sp")
+    >>> [levels_to_add(None, domain, 2), levels_to_add(None, domain.mesh(3), 2)]
+    [2, 0]
+    >>> levels_to_add(1, domain.mesh(3), 2)
+    1
+    """
+    if level is not None:
+        return level
+    return 0 if isinstance(target, Mesh) else default
 
 
 def inline_polygon(text: str, holes: list[str] | None = None) -> Domain:

@@ -30,6 +30,7 @@ from ._common import (
     check_folders,
     fill_template,
     inline_polygon,
+    levels_to_add,
     load_target,
     parse_size,
     print_json,
@@ -55,9 +56,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--level",
         "-l",
         type=int,
-        default=DEFAULT_LEVEL,
         metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+        "a mesh file keeps its own level, and L more levels refine it further)",
     )
     parser.add_argument(
         "--numbering",
@@ -169,6 +170,7 @@ def _mesh_one(
 ) -> dict[str, Any]:
     """Mesh, draw and write one domain (or refine a mesh further); the JSON-ready report."""
     progress = progress or StageProgress("", enabled=False)
+    options = {**options, "level": levels_to_add(options["level"], target, DEFAULT_LEVEL)}
     prediction = _check_memory(target, options, output)
     started = time.perf_counter()
     with _stage(progress, "refining", prediction) as tick:
@@ -248,7 +250,7 @@ def _fill(pattern: str, mesh: Mesh) -> str:
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
-    if args.level < 0:
+    if args.level is not None and args.level < 0:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
@@ -309,7 +311,7 @@ def _partitioned_options(args: argparse.Namespace) -> None:
             "--max-memory sets the local workers' memory limit; with --scheduler the workers' "
             "own limits apply"
         )
-    if args.level < 1:
+    if args.level is not None and args.level < 1:
         raise BlockMeshError(f"--partitions needs --level 1 or more, got {args.level}")
     if args.numbering != "nested" or args.smooth or args.quality_rule != "paper":
         raise BlockMeshError(
@@ -344,16 +346,22 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     from .. import distributed
     from ..distributed.files import pieces_dir
 
-    level = target.level + args.level if isinstance(target, Mesh) else args.level
+    steps = levels_to_add(args.level, target, DEFAULT_LEVEL)
+    if steps < 1:
+        raise BlockMeshError(
+            f"--partitions refines {printable(target.name or 'the mesh')} further: give --level "
+            "1 or more (the levels to add to the mesh file's own)"
+        )
+    level = target.level + steps if isinstance(target, Mesh) else steps
     output = fill_template(args.output, name=target.name or "mesh", level=level)
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
-    parts = distributed.partition(target, args.level, args.partitions)
+    parts = distributed.partition(target, steps, args.partitions)
     predicted = max(distributed.predict_task_bytes(parts, p) for p in range(parts.n_partitions))
     label = f"making {args.partitions} pieces on Dask workers"
     with progress.stage(label) as tick:
         made = distributed.refine_to(
             target,
-            args.level,
+            steps,
             output,
             partitions=args.partitions,
             workers=args.workers,
