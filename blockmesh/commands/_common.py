@@ -44,7 +44,7 @@ def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False)
         metavar="DOMAIN",
         nargs="*" if many else "?",
         help="catalogue name (see 'blockmesh catalogue'), a domain file (.toml, .wkt, .geojson) "
-        "or a mesh to convert (.msh, .vtu, ...)"
+        "or a mesh file blockmesh wrote (.npz, .vtu, .xdmf, .msh, .mat, .vtk)"
         + ("; several names, files or globs" if many else ""),
     )
     parser.add_argument(
@@ -71,7 +71,7 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
     if isinstance(target, Mesh):
         raise BlockMeshError(
             f"{_one_name(args)} is a mesh file, not a domain; this command needs a domain "
-            "(a catalogue name, a .toml file or --polygon)"
+            "(a catalogue name, a .toml, .wkt or .geojson file, or --polygon)"
         )
     return target
 
@@ -93,8 +93,8 @@ def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
         )
     if not domain:
         raise BlockMeshError(
-            'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
-            "(see 'blockmesh catalogue')"
+            "no domain: give a catalogue name, a .toml, .wkt or .geojson file or a mesh file, "
+            "or --polygon \"x1,y1 x2,y2 ...\" (see 'blockmesh catalogue')"
         )
     return load_target(domain, progress=StageProgress.wanted(args))
 

@@ -18,10 +18,20 @@ import numpy as np
 
 from ..errors import BlockMeshError, SolverError
 from ..improve import QUALITY_RULES, refine_with_rule
+from ..memory import MemoryPrediction, check_fits, process_rss, solve_command_predictor
+from ..mesh import Mesh
+from ..refinement import available_memory
 from ..vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from ..vem.fields import split_pair
 from ..vem.output import SOLUTION_FORMATS
-from ._common import add_domain_arguments, check_folders, print_json, resolve_domain
+from ._common import (
+    add_domain_arguments,
+    check_folders,
+    levels_to_add,
+    parse_size,
+    print_json,
+    resolve_target,
+)
 
 __all__ = ["register", "run"]
 
@@ -38,7 +48,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="solve a Poisson or elasticity problem on the mesh (virtual elements)",
         description="Solve a diffusion-reaction (Poisson) or plane elasticity problem on "
         "DOMAIN's pentagon mesh at LEVEL with lowest-order virtual elements; report unknowns, "
-        "cost and, with --exact, the errors; write the solution for ParaView.",
+        "cost and, with --exact, the errors; write the solution for ParaView. DOMAIN may be a "
+        "mesh file: the problem is solved on the mesh read, refined further by --level if given. "
+        "The memory the solve needs (the direct solver's factorisation above all) is predicted "
+        "first: a problem that does not fit is refused, naming the largest level that does.",
         epilog='example: blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
         "--dirichlet left=0 --dirichlet right=0 --dirichlet top=0 --dirichlet bottom=0 "
         '--exact "sin(pi*x)*sin(pi*y)"',
@@ -48,9 +61,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--level",
         "-l",
         type=int,
-        default=DEFAULT_LEVEL,
         metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+        "a mesh file is solved on at its own level, refined further by --level if given)",
     )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
@@ -110,7 +123,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--stabilization-scale", type=float, default=1.0, metavar="A", help="its factor (1)"
     )
-    parser.add_argument("--solver", choices=SOLVERS, default="direct", help="linear solver")
+    parser.add_argument(
+        "--solver",
+        choices=SOLVERS,
+        default="direct",
+        help="linear solver: direct (sparse LU; its memory grows as n log n) or amg (algebraic "
+        "multigrid, for large problems; needs pyamg)",
+    )
+    parser.add_argument(
+        "--max-memory",
+        type=parse_size,
+        metavar="SIZE",
+        help="refuse problems predicted to need more memory (e.g. 4G; default: what is available)",
+    )
     parser.add_argument(
         "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
     )
@@ -137,7 +162,7 @@ def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str
 
 
 def _check(args: argparse.Namespace) -> None:
-    if args.level < 0:
+    if args.level is not None and args.level < 0:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
@@ -200,15 +225,39 @@ def _nodal_error(solution, exact: str, equation: str) -> np.ndarray:
     return np.column_stack([solution.displacement - u, np.zeros(x.size)])
 
 
+def _check_memory(target, steps: int, args: argparse.Namespace) -> MemoryPrediction:
+    """The predicted peak of the whole solve; ResourceError before anything big is allocated."""
+    predict = solve_command_predictor(
+        target,
+        equation=args.equation,
+        solver=args.solver,
+        smooth=args.smooth,
+        plot=bool(args.plot),
+    )
+    given = args.max_memory
+    return check_fits(
+        predict,
+        steps,
+        given if given is not None else available_memory() + process_rss(),
+        what=target.name or "the mesh",
+        offset=target.level if isinstance(target, Mesh) else 0,
+        source="--max-memory" if given is not None else "the memory available now",
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh solve`` with the parsed ``args``; returns the exit code."""
     _check(args)
     seen: dict[str, str] = {}
     dirichlet = _patch_values(args.dirichlet, "--dirichlet", seen)
     neumann = _patch_values(args.neumann, "--neumann", seen)
-    domain = resolve_domain(args)
+    domain = resolve_target(args)
+    steps = levels_to_add(args.level, domain, DEFAULT_LEVEL)
+    prediction = _check_memory(domain, steps, args)
     started = time.perf_counter()
-    mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
+    mesh = refine_with_rule(
+        domain, steps, rule=args.quality_rule, smooth=args.smooth, max_memory=args.max_memory
+    )
     try:
         solution = _solve(args, mesh, dirichlet, neumann)
     except SolverError as error:  # the library names its keyword; here the flag is meant
@@ -229,6 +278,7 @@ def run(args: argparse.Namespace) -> int:
         "residual": info.residual,
         "seconds": seconds,
         "solve_seconds": info.seconds,
+        "predicted_peak_bytes": prediction.peak_bytes,
     }
     if args.equation == "poisson":
         report["u_min"] = float(solution.values.min())
