@@ -33,7 +33,7 @@ from .checks import readonly
 from .curve_checks import check_curved_blocks, curved_edges, resolve_curves
 from .curves import Curve
 from .errors import ArgumentTypeError, DomainError, DomainFormatError, TopologyError
-from .geometry import interior_angles, signed_area
+from .geometry import DIRECTIONS, edges_facing, interior_angles, signed_area
 from .mesh import Mesh
 from .tomlio import dumps_domain, parse_domain_text, read_domain_file
 from .topology import boundary_loops, cell_neighbours
@@ -349,7 +349,10 @@ class Domain:
         patches : mapping of name to a list of polygon edges, optional
             An integer ``i`` is edge ``i`` of the outer boundary (from corner ``i`` to
             ``i + 1`` as given); ``"hole K"`` is every edge of hole ``K`` (0-based);
-            ``"hole K:E"`` is edge ``E`` of hole ``K``. Unlisted edges go to ``"boundary"``.
+            ``"hole K:E"`` is edge ``E`` of hole ``K``; ``"left"``, ``"right"``, ``"top"`` and
+            ``"bottom"`` are the outer boundary's edges facing that way (their outward normal
+            points most nearly there: :func:`blockmesh.geometry.edges_facing`) and not listed
+            by number in another patch. Unlisted edges go to ``"boundary"``.
         arcs : mapping of edge to Arc, optional
             Polygon edges that are circular arcs: edge ``i`` of the outer boundary, or
             ``"hole K:E"``, to an :class:`~blockmesh.curves.Arc` (``through`` or ``center``).
@@ -378,6 +381,7 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
+        patches = _facing_resolved(patches, coords)
         if arcs or circles:  # decomposed through the chords, then curved: blockmesh.curved_polygons
             from .curved_polygons import curved_polygon
 
@@ -737,6 +741,43 @@ def _hole_list(holes: Any) -> list[Any]:
 _HOLE_EDGE = re.compile(r"^hole (\d+)(?::(\d+))?$")
 
 
+def _facing_resolved(patches: Any, coords: Any) -> Any:
+    """``patches`` with the direction words (``"left"`` ...) replaced by outer edge indices.
+
+    An edge a patch lists by number (or by another word) stays there: a word takes the edges
+    facing its way that nothing else claims.
+    """
+    if not isinstance(patches, Mapping):
+        return patches
+    words = {
+        name: [e for e in edges if isinstance(e, str) and e.strip().lower() in DIRECTIONS]
+        for name, edges in patches.items()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+    }
+    if not any(words.values()):
+        return patches
+    facing = edges_facing(parse_points(coords, "polygon vertex"))
+    claimed: set[int] = {
+        int(e)
+        for edges in patches.values()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+        for e in edges
+        if isinstance(e, numbers.Integral)
+    }
+    resolved: dict[str, Any] = {}
+    for name, edges in patches.items():
+        if not words.get(name):
+            resolved[name] = edges
+            continue
+        listed = [e for e in edges if e not in words[name]]
+        for word in words[name]:
+            taken = [i for i in facing[word.strip().lower()] if i not in claimed]
+            listed += taken
+            claimed.update(taken)
+        resolved[name] = listed
+    return resolved
+
+
 def _ring_edge_patches(
     patches: Mapping[str, Iterable[int | str]] | None, sizes: list[int]
 ) -> list[list[str | None]] | None:
@@ -769,8 +810,9 @@ def _ring_edge_patches(
 def _ring_edges(patch_name: str, edge: object, sizes: list[int]) -> list[tuple[int, int]]:
     """The (ring, edge) pairs one item of a polygon patch list names."""
     forms = (
-        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K) or '
-        '"hole K:E" (edge E of hole K)'
+        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K), '
+        '"hole K:E" (edge E of hole K) or left, right, top, bottom (the outer edges facing '
+        "that way)"
     )
     if isinstance(edge, numbers.Integral) and not isinstance(edge, bool):
         if not 0 <= int(edge) < sizes[0]:

@@ -50,6 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--level",
+        "-l",
         type=int,
         metavar="L",
         help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "

@@ -32,6 +32,7 @@ from ._common import (
     inline_polygon,
     levels_to_add,
     load_target,
+    parse_patch_options,
     parse_size,
     print_json,
     printable,
@@ -335,14 +336,15 @@ def _partitioned_options(args: argparse.Namespace) -> None:
 def _run_partitioned(args: argparse.Namespace) -> int:
     """``blockmesh mesh DOMAIN --partitions P [--workers N | --scheduler ADDRESS] -o OUT.pvtu``."""
     _partitioned_options(args)
+    patches = parse_patch_options(args.patch)
     if args.polygon is not None:
         if args.domain:
             raise BlockMeshError("give either DOMAIN or --polygon, not both")
-        target: Domain | Mesh = inline_polygon(args.polygon, args.hole)
+        target: Domain | Mesh = inline_polygon(args.polygon, args.hole, patches)
     else:
         if len(args.domain or []) != 1:
             raise BlockMeshError("--partitions meshes one domain at a time")
-        target = load_target(args.domain[0], progress=StageProgress.wanted(args))
+        target = load_target(args.domain[0], progress=StageProgress.wanted(args), patches=patches)
     from .. import distributed
     from ..distributed.files import pieces_dir
 
@@ -490,16 +492,19 @@ def run(args: argparse.Namespace) -> int:
                 'no domain: give catalogue names or .toml files, or --polygon "x1,y1 x2,y2 ..."'
             )
         domains = _expand(args.domain)
+    patches = parse_patch_options(args.patch)
     if len(domains) > 1:
+        if patches:
+            raise BlockMeshError("--patch names the edges of one outline; mesh one domain")
         return _run_batch(domains, options, args)
     if args.hole and args.polygon is None:
         raise BlockMeshError(
             '--hole adds a hole to --polygon "x1,y1 x2,y2 ..."; give --polygon too'
         )
     target = (
-        inline_polygon(args.polygon, args.hole)
+        inline_polygon(args.polygon, args.hole, patches)
         if args.polygon is not None
-        else load_target(domains[0], progress=StageProgress.wanted(args))
+        else load_target(domains[0], progress=StageProgress.wanted(args), patches=patches)
     )
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     report = _mesh_one(target, options, args.output, progress=progress)

@@ -4,7 +4,8 @@
 ``--reaction``); ``--equation elasticity`` plane linear elasticity (``--young``,
 ``--poisson-ratio``, ``--plane``; vector data as ``"EXPR_X, EXPR_Y"``). ``--dirichlet PATCH=EXPR``
 prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` the outward flux
-(the traction); other patches are natural (zero flux, traction-free).
+(the traction); other patches are natural (zero flux, traction-free). PATCH may be a comma list
+of patches, or ``*``: every patch the other options do not name.
 """
 
 from __future__ import annotations
@@ -53,8 +54,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "The memory the solve needs (the direct solver's factorisation above all) is predicted "
         "first: a problem that does not fit is refused, naming the largest level that does.",
         epilog='example: blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
-        "--dirichlet left=0 --dirichlet right=0 --dirichlet top=0 --dirichlet bottom=0 "
-        '--exact "sin(pi*x)*sin(pi*y)"',
+        "--dirichlet '*=0' --exact \"sin(pi*x)*sin(pi*y)\"",
     )
     add_domain_arguments(parser)
     parser.add_argument(
@@ -76,14 +76,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="append",
         default=[],
         metavar="PATCH=EXPR",
-        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be 'free'",
+        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be "
+        "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every patch no "
+        "other --dirichlet or --neumann names)",
     )
     parser.add_argument(
         "--neumann",
         action="append",
         default=[],
         metavar="PATCH=EXPR",
-        help="outward flux kappa du/dn on PATCH (repeatable); elasticity: the traction 'TX, TY'",
+        help="outward flux kappa du/dn on PATCH (repeatable); elasticity: the traction 'TX, TY'. "
+        "PATCH as for --dirichlet (a comma list, or *)",
     )
     parser.add_argument(
         "--exact", metavar="EXPR", help="exact solution ('UX, UY' for elasticity): report errors"
@@ -144,21 +147,66 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
-def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str, str]:
-    values: dict[str, str] = {}
-    for item in items:
-        patch, sign, expression = item.partition("=")
-        patch, expression = patch.strip(), expression.strip()
-        if not sign or not patch or not expression:
-            raise BlockMeshError(f"{flag} {item!r}: write PATCH=EXPR, e.g. {flag} left=0")
-        if patch in seen:
-            raise BlockMeshError(
-                f"patch {patch!r} is given twice ({seen[patch]} and {flag} {item}); give each "
-                "patch one condition"
-            )
-        seen[patch] = f"{flag} {item}"
-        values[patch] = expression
-    return values
+#: One ``--dirichlet`` or ``--neumann`` option: (flag, the option's text, patches, expression);
+#: patches is ``"*"`` or the names as written.
+Condition = tuple[str, str, str | list[str], str]
+
+
+def _conditions(args: argparse.Namespace) -> list[Condition]:
+    """The boundary-condition options, their syntax checked (the patches are checked later)."""
+    found: list[Condition] = []
+    for flag, items in (("--dirichlet", args.dirichlet), ("--neumann", args.neumann)):
+        for item in items:
+            patch, sign, expression = item.partition("=")
+            patch, expression = patch.strip(), expression.strip()
+            if not sign or not patch or not expression:
+                raise BlockMeshError(
+                    f"{flag} {item!r}: write PATCH=EXPR, e.g. {flag} left=0 (or "
+                    f"{flag} 'left,right=0', or {flag} '*=0' for every other patch)"
+                )
+            found.append((flag, item, patch, expression))
+    return found
+
+
+def _patch_values(
+    conditions: list[Condition], patch_names: tuple[str, ...]
+) -> tuple[dict[str, str], dict[str, str]]:
+    """The Dirichlet and Neumann values by patch: lists split, ``*`` given the patches left.
+
+    A name that is a patch of the mesh is taken whole (commas and all); otherwise a comma list.
+    """
+    values: dict[str, dict[str, str]] = {"--dirichlet": {}, "--neumann": {}}
+    seen: dict[str, str] = {}
+    star: Condition | None = None
+    for flag, item, patch, expression in conditions:
+        if patch == "*":
+            if star is not None:
+                raise BlockMeshError(
+                    f"'*' is given twice ({star[0]} {star[1]} and {flag} {item}); '*' stands for "
+                    "every patch the other options do not name, once"
+                )
+            star = (flag, item, patch, expression)
+            continue
+        names = [patch] if patch in patch_names else [n.strip() for n in str(patch).split(",")]
+        for name in names:
+            if not name:
+                raise BlockMeshError(f"{flag} {item!r}: an empty patch name in the list")
+            if name not in patch_names:
+                raise BlockMeshError(
+                    f"{flag} {item!r}: no patch {name!r}; the patches are {', '.join(patch_names)}"
+                )
+            if name in seen:
+                raise BlockMeshError(
+                    f"patch {name!r} is given twice ({seen[name]} and {flag} {item}); give "
+                    "each patch one condition"
+                )
+            seen[name] = f"{flag} {item}"
+            values[flag][name] = expression
+    if star is not None:
+        for name in patch_names:
+            if name not in seen:
+                values[star[0]][name] = star[3]
+    return values["--dirichlet"], values["--neumann"]
 
 
 def _check(args: argparse.Namespace) -> None:
@@ -248,10 +296,9 @@ def _check_memory(target, steps: int, args: argparse.Namespace) -> MemoryPredict
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh solve`` with the parsed ``args``; returns the exit code."""
     _check(args)
-    seen: dict[str, str] = {}
-    dirichlet = _patch_values(args.dirichlet, "--dirichlet", seen)
-    neumann = _patch_values(args.neumann, "--neumann", seen)
+    conditions = _conditions(args)
     domain = resolve_target(args)
+    dirichlet, neumann = _patch_values(conditions, domain.patch_names)
     steps = levels_to_add(args.level, domain, DEFAULT_LEVEL)
     prediction = _check_memory(domain, steps, args)
     started = time.perf_counter()

@@ -40,6 +40,7 @@ import os
 import shutil
 import tempfile
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -460,7 +461,7 @@ def refine_to(
 
 def integrate_with_estimate(
     target: Domain | Mesh,
-    function: Any,
+    f: Any = None,
     *,
     order: int,
     level: int | None = None,
@@ -472,6 +473,7 @@ def integrate_with_estimate(
     max_points: int | None = None,
     exact_geometry: bool = False,
     progress: ProgressCallback | None = None,
+    function: Any = None,
 ) -> Any:
     """The integral over ``target`` at ``level``, partition by partition, with its estimate.
 
@@ -480,8 +482,10 @@ def integrate_with_estimate(
     client adds the values (``math.fsum``: the serial value to round-off) and the error
     estimates, and the result has converged when every partition's has. ``level`` is as for
     :func:`blockmesh.integrate`: a Domain's refinement level, or for a Mesh the level to reach
-    (above its own). ``function`` must be picklable: an expression string, or a function defined
-    at module level. ``max_points`` bounds the evaluations of the whole integral.
+    (above its own). ``f`` is the integrand as for :func:`blockmesh.integrate` and must be
+    picklable: an expression string, or a function defined at module level (``function=``, its
+    former name, still works with a :class:`DeprecationWarning`). ``max_points`` bounds the
+    evaluations of the whole integral.
     ``exact_geometry`` integrates over the true curved cells, as :func:`blockmesh.integrate`
     does (every piece carries its curved edges).
 
@@ -492,6 +496,7 @@ def integrate_with_estimate(
     from ..quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
     from ..refinement import format_count
 
+    f = _integrand(f, function)
     if level is None:
         steps = 0
     elif isinstance(target, Mesh):
@@ -518,7 +523,7 @@ def integrate_with_estimate(
                 integrate_piece_task,
                 scattered,
                 p,
-                function,
+                f,
                 order,
                 rule,
                 budget,
@@ -551,17 +556,36 @@ def integrate_with_estimate(
     )
 
 
-def integrate(target: Domain | Mesh, function: Any, **options: Any) -> float:
+def _integrand(f: Any, function: Any) -> Any:
+    """``f``, or the deprecated ``function=`` (with a DeprecationWarning); one of them."""
+    if function is None:
+        if f is None:
+            raise ArgumentError("integrate needs the integrand f (an expression or a function)")
+        return f
+    if f is not None:
+        raise ArgumentError("give the integrand as f= (or, deprecated, function=), not both")
+    warnings.warn(
+        "blockmesh.distributed.integrate(function=...) is deprecated: write f=..., as for "
+        "blockmesh.integrate",
+        DeprecationWarning,
+        stacklevel=3,
+    )
+    return function
+
+
+def integrate(target: Domain | Mesh, f: Any = None, **options: Any) -> float:
     """The value of :func:`integrate_with_estimate` (same options): a float.
+
+    ``f`` as for :func:`blockmesh.integrate` (``function=`` is its deprecated name).
 
     Examples
     --------
     >>> import blockmesh, blockmesh.distributed as bd
-    >>> bd.integrate(blockmesh.load_domain("sp"), "1", order=1, level=2,
+    >>> bd.integrate(blockmesh.load_domain("sp"), f="1", order=1, level=2,
     ...              partitions=3, workers=1)  # doctest: +SKIP
     5.0
     """
-    return integrate_with_estimate(target, function, **options).value
+    return integrate_with_estimate(target, f, **options).value
 
 
 def gather(path: str | os.PathLike[str]) -> Mesh:

@@ -59,3 +59,115 @@ def test_level_0_re_export_keeps_the_parents(capsys, tmp_path, l_shape_file):
     again, before = blockmesh.read(out_path), blockmesh.read(l_shape_file)
     assert np.array_equal(again.parent, before.parent) and again.parent.max() == 23
     assert again.level == 1
+
+
+# ------------------------------------------------------------- options (issue 22, item 4)
+def test_integrate_takes_the_short_level_option(capsys):
+    code, out, err = run_cli(capsys, "integrate", "sp", "-f", "1", "-l", "1", "--json")
+    assert code == 0, err
+    assert json.loads(out)["level"] == 1 and json.loads(out)["cells"] == 6
+
+
+SOURCE = "2*pi^2*sin(pi*x)*sin(pi*y)"
+
+
+def _solve(capsys, *arguments: str) -> dict:
+    code, out, err = run_cli(capsys, "solve", "square", "--level", "2", "--source", SOURCE,
+                             *arguments, "--json")  # fmt: skip
+    assert code == 0, err
+    return json.loads(out)
+
+
+def test_dirichlet_star_means_every_patch_not_otherwise_given(capsys):
+    """A bracket needed six --dirichlet flags, one per patch."""
+    walls = [a for side in ("left", "right", "top", "bottom") for a in ("--dirichlet", f"{side}=0")]
+    one_by_one = _untimed(_solve(capsys, *walls))
+    assert _untimed(_solve(capsys, "--dirichlet", "*=0")) == one_by_one
+    listed = _solve(capsys, "--dirichlet", "left,right=0", "--dirichlet", "top, bottom=0")
+    assert listed["u_max"] == one_by_one["u_max"] and listed["dof"] == one_by_one["dof"]
+    mixed = _solve(capsys, "--neumann", "left=0", "--dirichlet", "*=0")
+    assert mixed["dof"] > one_by_one["dof"]  # left is free: its nodes are unknowns
+
+
+def _untimed(report: dict) -> dict:
+    return {k: v for k, v in report.items() if "seconds" not in k and "bytes" not in k}
+
+
+def test_star_takes_the_patches_left_over_by_both_flags(capsys):
+    code, out, err = run_cli(capsys, "solve", "square", "--level", "1", "--source", "1",
+                             "--dirichlet", "*=0", "--neumann", "*=1")  # fmt: skip
+    assert code == 2 and "'*' is given twice" in err
+
+
+@pytest.mark.parametrize(
+    ("flag", "message"),
+    [
+        ("left,nowhere=0", "no patch 'nowhere'"),
+        ("left,,right=0", "an empty patch name"),
+        ("left,left=0", "patch 'left' is given twice"),
+    ],
+)
+def test_patch_lists_are_checked(capsys, flag, message):
+    code, out, err = run_cli(capsys, "solve", "square", "--level", "1", "--source", "1",
+                             "--dirichlet", flag)  # fmt: skip
+    assert code == 2 and message in err, err
+
+
+# ------------------------------------------------------------ naming the edges of a polygon
+L_BRACKET = "0,0 4,0 4,1 1,1 1,3 0,3"
+
+
+def test_patch_names_the_edges_of_an_inline_polygon(capsys):
+    """--polygon and WKT domains had one patch, `boundary` (issue 22)."""
+    code, out, err = run_cli(capsys, "check", "--polygon", L_BRACKET, "--patch", "fixed=left",
+                             "--patch", "load=1", "--patch", "inner=3-4", "--json")  # fmt: skip
+    assert code == 0, err
+    report = json.loads(out)
+    assert list(report["patches"]) == ["fixed", "load", "inner", "boundary"]
+    mesh = blockmesh.Domain.from_polygon(
+        blockmesh.loading.parse_polygon_string(L_BRACKET),
+        patches={"fixed": ["left"], "load": [1], "inner": [3, 4]},
+    ).mesh(1)
+    fixed = mesh.points[np.unique(mesh.patch_edges("fixed"))]
+    assert np.all(fixed[:, 0] == 0) and np.ptp(fixed[:, 1]) == 3
+
+
+def test_direction_words_pick_the_edges_facing_that_way():
+    domain = blockmesh.Domain.from_polygon(
+        [(0, 0), (4, 0), (4, 1), (1, 1), (1, 3), (0, 3)],
+        patches={"left": ["left"], "right": ["right"], "top": ["top"], "bottom": ["bottom"]},
+    )
+    mesh = domain.mesh(0)
+    for name, (axis, sign) in {"left": (0, -1), "right": (0, 1), "top": (1, 1),
+                               "bottom": (1, -1)}.items():  # fmt: skip
+        a, b = mesh.points[mesh.patch_edges(name)].transpose(1, 0, 2)
+        normal = np.column_stack([b[:, 1] - a[:, 1], a[:, 0] - b[:, 0]])  # outward (CCW ring)
+        assert np.all(sign * normal[:, axis] > np.abs(normal[:, 1 - axis])), name
+    assert "boundary" not in domain.patch_names  # every edge of this bracket faces one way
+
+
+def test_patch_works_on_a_wkt_file_and_is_refused_where_patches_are_the_files(capsys, tmp_path):
+    wkt = tmp_path / "bracket.wkt"
+    wkt.write_text("POLYGON ((0 0, 4 0, 4 1, 1 1, 1 3, 0 3, 0 0))")
+    code, out, err = run_cli(capsys, "check", str(wkt), "--patch", "fixed=left", "--json")
+    assert code == 0, err
+    assert "fixed" in json.loads(out)["patches"]
+    code, out, err = run_cli(capsys, "check", "l-shape", "--patch", "fixed=left")
+    assert code == 1 and "--patch" in err and "polygon" in err
+
+
+@pytest.mark.parametrize(
+    ("spec", "message"),
+    [("fixed", "write NAME=EDGES"), ("fixed=up", "'up'"), ("fixed=3-1", "'3-1'")],
+)
+def test_bad_patch_options_say_what_to_write(capsys, spec, message):
+    code, out, err = run_cli(capsys, "mesh", "--polygon", L_BRACKET, "--patch", spec)
+    assert code == 2 and message in err, err
+
+
+def test_help_documents_patch_and_the_patch_lists(capsys):
+    with pytest.raises(SystemExit):
+        run_cli(capsys, "solve", "--help")
+    text = " ".join(capsys.readouterr().out.split())
+    assert "--patch NAME=EDGES" in text and "left, right, top, bottom" in text
+    assert "'*=EXPR'" in text and "'left,right=EXPR'" in text
