@@ -101,15 +101,16 @@ STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
 
 #: Extra resident bytes of ``blockmesh solve`` before its linear solve, per cell of the mesh: the
 #: projections, cell matrices, loads and the assembled system held when the factorisation
-#: starts (measured by ``benchmarks/bench_solve_memory.py``: 1,400-2,200 bytes per cell for
-#: poisson and 4,700-7,000 for elasticity on square, l-shape and lake-island, levels 3-5).
+#: starts (measured by ``benchmarks/bench_solve_memory.py`` on square, l-shape and lake-island,
+#: levels 3-5: 1,400-2,200 bytes per cell for poisson, 4,700-7,000 for elasticity, the larger
+#: figures on the smaller meshes).
 SOLVE_COSTS: dict[str, StageCost] = {
-    "poisson": StageCost(2_200, 10_000_000, (("blockmesh.vem", 40_000_000),)),
-    "elasticity": StageCost(7_000, 10_000_000, (("blockmesh.vem", 40_000_000),)),
+    "poisson": StageCost(1_800, 10_000_000, (("blockmesh.vem", 40_000_000),)),
+    "elasticity": StageCost(5_000, 10_000_000, (("blockmesh.vem", 40_000_000),)),
 }
 #: Resident bytes per non-zero of SuperLU's factors L + U, values, indices and the work space of
 #: the factorisation together (measured 20-31).
-LU_BYTES_PER_NONZERO = 28
+LU_BYTES_PER_NONZERO = 25
 #: The multigrid hierarchy and the conjugate-gradient vectors, per cell (``solver="amg"``).
 AMG_BYTES_PER_CELL = 1_500
 

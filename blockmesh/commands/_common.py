@@ -27,6 +27,8 @@ __all__ = [
     "fill_template",
     "inline_polygon",
     "is_mesh_file",
+    "json_error",
+    "json_objects_printed",
     "levels_to_add",
     "load_target",
     "parse_patch_options",
@@ -348,9 +350,33 @@ def _plain(value: Any) -> Any:
     raise TypeError(f"cannot write {type(value).__name__} as JSON")
 
 
+#: How many JSON objects :func:`print_json` has printed in this process.
+_JSON_PRINTED = [0]
+
+
 def print_json(payload: dict[str, Any]) -> None:
     """Print exactly one JSON object on stdout."""
     print(json.dumps(payload, indent=2, default=_plain, allow_nan=False))
+    _JSON_PRINTED[0] += 1
+
+
+def json_objects_printed() -> int:
+    """How many JSON objects :func:`print_json` has printed in this process.
+
+    The command line prints an error object only when the command printed none.
+    """
+    return _JSON_PRINTED[0]
+
+
+def json_error(kind: str, message: str, exit_code: int) -> dict[str, Any]:
+    """The ``--json`` object of a failed command: ``{"error": {type, message, exit_code}}``.
+
+    Examples
+    --------
+    >>> json_error("ResourceError", "too big", 2)
+    {'error': {'type': 'ResourceError', 'message': 'too big', 'exit_code': 2}}
+    """
+    return {"error": {"type": kind, "message": message, "exit_code": exit_code}}
 
 
 _UNITS = {"": 1, "B": 1, "K": 1e3, "KB": 1e3, "M": 1e6, "MB": 1e6, "G": 1e9, "GB": 1e9}

@@ -12,7 +12,7 @@ from ..blockgraph import certificate
 from ..domain import Domain
 from ..errors import BlockMeshError
 from ..mesh import Mesh
-from ._common import add_domain_arguments, print_json, printable, resolve_target
+from ._common import add_domain_arguments, json_error, print_json, printable, resolve_target
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
                     {
                         "domain": name,
                         "valid": False,
-                        "error": type(error).__name__,
+                        **json_error(type(error).__name__, str(error), 1),
                         "problems": [p.strip() for p in problems if p.strip()],
                     }
                 )

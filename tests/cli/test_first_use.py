@@ -171,3 +171,71 @@ def test_help_documents_patch_and_the_patch_lists(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "--patch NAME=EDGES" in text and "left, right, top, bottom" in text
     assert "'*=EXPR'" in text and "'left,right=EXPR'" in text
+
+
+# ----------------------------------------------------------- --json: one object, errors too
+@pytest.mark.parametrize(
+    ("argv", "code", "kind", "message"),
+    [
+        (["mesh", "no-such-domain"], 2, "DomainFormatError", "neither a catalogue domain"),
+        (["mesh", "sp", "--level", "400"], 2, "ResourceError", "largest level that fits"),
+        (["integrate", "sp", "-f", "x +"], 2, "ExpressionError", "x +"),
+        (["solve", "square", "--dirichlet", "nowhere=0"], 2, "BlockMeshError", "no patch"),
+        (["convert", "/no/such/mesh.msh", "-o", "/tmp/x.toml"], 2, "DomainFormatError", "no such"),
+        (["check", "--polygon", "0,0 1,1 0,1 1,0"], 1, "DomainError", "cross"),
+    ],
+)
+def test_every_json_error_is_one_json_object(capsys, argv, code, kind, message):
+    """`mesh --json` printed nothing on error while `check --json` printed {"valid": false}."""
+    got, out, err = run_cli(capsys, *argv, "--json")
+    assert got == code, err
+    report = json.loads(out)  # exactly one object: json.loads refuses trailing text
+    assert isinstance(report, dict)
+    assert report["error"]["type"] == kind and report["error"]["exit_code"] == code
+    assert message in report["error"]["message"]
+
+
+def test_json_usage_errors_are_json_too(capsys):
+    with pytest.raises(SystemExit) as stop:
+        run_cli(capsys, "mesh", "sp", "--level", "two", "--json")
+    out = capsys.readouterr().out
+    assert stop.value.code == 2
+    report = json.loads(out)
+    assert report["error"]["exit_code"] == 2 and "invalid int value" in report["error"]["message"]
+
+
+def test_json_of_an_interrupted_or_broken_command(capsys, monkeypatch):
+    def interrupted(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("blockmesh.commands.mesh.refine", interrupted)
+    code, out, err = run_cli(capsys, "mesh", "sp", "--json")
+    assert code == 130 and json.loads(out)["error"]["exit_code"] == 130
+
+    def broken(*_args, **_kwargs):
+        raise ZeroDivisionError("boom")
+
+    monkeypatch.setattr("blockmesh.commands.mesh.refine", broken)
+    monkeypatch.delenv("BLOCKMESH_DEBUG", raising=False)
+    code, out, err = run_cli(capsys, "mesh", "sp", "--json")
+    report = json.loads(out)
+    assert code == 3 and report["error"]["exit_code"] == 3 and "boom" in report["error"]["message"]
+
+
+def test_a_json_report_is_not_followed_by_a_second_object(capsys, monkeypatch):
+    """A signal recorded after the report was printed: the exit code says so, stdout stays one
+    object."""
+    from blockmesh import interrupts
+
+    real = interrupts.raise_pending
+    calls = []
+
+    def pending_after_the_report():
+        calls.append(1)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("blockmesh.cli.raise_pending", pending_after_the_report)
+    code, out, err = run_cli(capsys, "mesh", "sp", "--json")
+    assert code == 130 and calls
+    assert "error" not in json.loads(out) and json.loads(out)["cells"] == 36
+    assert real is interrupts.raise_pending
