@@ -14,6 +14,9 @@
                                     (:meth:`Domain.from_mesh`)
 =================================== ===========================================================
 
+The extension decides how a file is read (its content is not sniffed): a file with another
+extension, or none, is refused with the list of the known ones.
+
 :func:`parse_polygon_string` reads the inline ``"x1,y1 x2,y2 ..."`` form of ``--polygon`` and
 ``--hole``.
 
@@ -111,6 +114,8 @@ def load_domain(
             raise DomainFormatError(_NOT_AN_OUTLINE.format(name=path))
         if suffix in MESH_SUFFIXES or path.is_dir():
             return Domain.from_mesh(path)
+        if suffix != ".toml" and path.is_file():  # (a device or a FIFO: said by the reader)
+            raise DomainFormatError(_unknown_kind(path, suffix))
         return Domain.from_toml(path)
     names = catalogue_names()
     if patches and text in names:
@@ -130,6 +135,17 @@ _NOT_AN_OUTLINE = (
     "{name} names its own patches (a domain file in its [patches] table, a mesh file on its "
     "boundary)"
 )
+
+
+def _unknown_kind(path: Path, suffix: str) -> str:
+    """The message for a file whose extension says nothing blockmesh reads (no sniffing)."""
+    what = f"the extension {suffix!r} is not one" if suffix else "it has no extension, one"
+    return (
+        f"{path}: {what} blockmesh knows (it goes by the extension); it reads domain files "
+        f".toml, .wkt, .geojson and .json, and meshes {' '.join(sorted(MESH_SUFFIXES))} (or an "
+        "OpenFOAM case folder): rename the file to the extension of its contents (a Well-Known "
+        "Text polygon: .wkt)"
+    )
 
 
 def _from_wkt(path: Path, patches: Mapping[str, Iterable[int | str]] | None = None) -> Domain:

@@ -239,3 +239,106 @@ def test_a_json_report_is_not_followed_by_a_second_object(capsys, monkeypatch):
     assert code == 130 and calls
     assert "error" not in json.loads(out) and json.loads(out)["cells"] == 36
     assert real is interrupts.raise_pending
+
+
+# ------------------------------------------------------------------- pictures and listings
+@pytest.fixture(scope="module")
+def many_blocks():
+    """1,116 blocks: the lake-island's level-1 cells as the blocks of a domain."""
+    from blockmesh.commands.check import domain_of_mesh
+
+    return domain_of_mesh(blockmesh.load_domain("lake-island").mesh(1))
+
+
+def _label_boxes(fig):
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    return [t.get_window_extent(renderer) for t in ax.texts]
+
+
+def test_show_numbers_only_the_blocks_whose_number_fits(many_blocks):
+    """`show` on 1,000+ blocks printed every block number, one over the other."""
+    from blockmesh.plot import domain_figure, pyplot
+
+    fig = domain_figure(many_blocks)
+    try:
+        boxes = _label_boxes(fig)
+        assert 0 < len(boxes) < many_blocks.n_blocks
+        for k, box in enumerate(boxes):
+            assert not any(box.overlaps(other) for other in boxes[k + 1 :]), k
+        assert "numbers where they fit" in fig.axes[0].get_title()
+    finally:
+        pyplot().close(fig)
+
+
+@pytest.mark.parametrize(("labels", "count"), [("all", 1116), ("none", 0)])
+def test_block_numbers_can_be_turned_on_and_off(many_blocks, labels, count):
+    from blockmesh.plot import domain_figure, pyplot
+
+    fig = domain_figure(many_blocks, labels=labels)
+    try:
+        assert len(fig.axes[0].texts) == count
+    finally:
+        pyplot().close(fig)
+
+
+def test_show_takes_labels(capsys, tmp_path):
+    path = tmp_path / "l.png"
+    code, out, err = run_cli(capsys, "show", "l-shape", "-o", str(path), "--labels", "none")
+    assert code == 0 and path.is_file(), err
+
+
+def test_mesh_plot_colours_the_regions_with_a_legend():
+    """`mesh --plot` never showed the regions."""
+    from matplotlib.colors import to_hex
+
+    from blockmesh.plot import mesh_figure, pyplot
+
+    mesh = blockmesh.load_domain("l-shape").mesh(1)
+    fig = mesh_figure(mesh)
+    try:
+        ax = fig.axes[0]
+        faces = [to_hex(c) for c in ax.collections[0].get_facecolors()]
+        by_region = {r: {faces[c] for c in np.flatnonzero(mesh.region == r)} for r in range(3)}
+        assert all(len(colours) == 1 for colours in by_region.values())
+        assert len(set().union(*by_region.values())) == 3
+        titles = [legend.get_title().get_text() for legend in [*fig.legends, ax.get_legend()]]
+        assert "regions" in titles
+        texts = {t.get_text() for legend in fig.legends for t in legend.get_texts()}
+        assert texts >= {"corner", "arm-right", "arm-up"}
+    finally:
+        pyplot().close(fig)
+
+
+def test_the_catalogue_table_keeps_its_columns(capsys):
+    """Long names (quarter-plate-hole) pushed the other columns right."""
+    code, out, err = run_cli(capsys, "catalogue")
+    lines = out.splitlines()
+    header, rows = lines[0], lines[1:]
+    assert code == 0 and len(rows) == len(blockmesh.catalogue.catalogue_names())
+    start = header.index("description")
+    area_end = header.index("area") + len("area")
+    for row in rows:
+        assert row[start - 2 : start] == "  " and row[start] != " ", row
+        assert row[area_end - 1] != " " and row[area_end] == " ", row
+
+
+def test_a_file_of_unknown_kind_is_refused_not_read_as_toml(tmp_path, capsys):
+    """A WKT file named .txt was parsed as TOML ('Expected '=' after a key ...')."""
+    path = tmp_path / "bracket.txt"
+    path.write_text("POLYGON ((0 0, 4 0, 4 1, 1 1, 1 3, 0 3, 0 0))")
+    with pytest.raises(blockmesh.DomainFormatError) as caught:
+        blockmesh.load_domain(path)
+    message = str(caught.value)
+    assert "'.txt'" in message and ".wkt" in message and ".toml" in message and ".msh" in message
+    code, out, err = run_cli(capsys, "check", str(path))
+    assert code == 1 and "'.txt'" in err
+
+
+def test_dir_shows_the_public_names():
+    names = set(dir(blockmesh))
+    assert names >= set(blockmesh.__all__) | {"__version__"}
+    assert not names & {"Any", "TYPE_CHECKING", "annotations", "importlib", "domain", "io"}
+    assert all(n in blockmesh.__all__ or n.startswith("__") for n in names)
+    assert not hasattr(blockmesh, "Any") and not hasattr(blockmesh, "importlib")
