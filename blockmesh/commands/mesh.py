@@ -98,8 +98,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--compression",
         choices=("none", "zlib", "lzma"),
-        help="compression of the output, where the format has it (default: zlib for .vtu, none "
-        "otherwise)",
+        help="compression of the output, where the format has it (default none: the fastest; "
+        "zlib makes a .vtu about 2.5x smaller for about 4x the time)",
     )
     parser.add_argument("--plot", metavar="PNG", help="draw the mesh")
     parser.add_argument(

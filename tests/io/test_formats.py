@@ -244,7 +244,7 @@ def test_failed_commit_keeps_old_output(
 def _breaking_points() -> list[tuple[str, str, str]]:
     """(format, object to break, attribute) per file format: a failure in the middle."""
     return [
-        ("vtu", "blockmesh.io.vtu", "_insert_field_data"),
+        ("vtu", "blockmesh.io.vtu_writer", "_write_raw"),
         ("vtk", "blockmesh.io.legacy_vtk", "_field_block"),
         ("xdmf", "blockmesh.io.xdmf", "_xdmf_tree"),
         ("msh", "blockmesh.io.msh_writer", "_write_blocks"),
