@@ -36,7 +36,6 @@ __all__ = [
     "plural",
     "print_json",
     "printable",
-    "resolve_domain",
     "resolve_target",
     "safe_component",
 ]
@@ -75,21 +74,6 @@ def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False)
         "left, right, top, bottom (the outer edges facing that way); other edges stay in "
         "'boundary'",
     )
-
-
-def resolve_domain(args: argparse.Namespace) -> Domain:
-    """The one domain named on the command line (``DOMAIN`` or ``--polygon``).
-
-    A mesh file (``.vtu``, ``.xdmf``, ``.npz``, …) is refused with a message saying so; commands
-    that also work on meshes use :func:`resolve_target`.
-    """
-    target = resolve_target(args)
-    if isinstance(target, Mesh):
-        raise BlockMeshError(
-            f"{_one_name(args)} is a mesh file, not a domain; this command needs a domain "
-            "(a catalogue name, a .toml, .wkt or .geojson file, or --polygon)"
-        )
-    return target
 
 
 def resolve_target(args: argparse.Namespace) -> Domain | Mesh:

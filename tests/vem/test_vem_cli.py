@@ -171,13 +171,15 @@ def test_solve_help_and_errors_name_every_domain_kind(capsys):
 # -------------------------------------------------------------- memory (issue 22, item 4)
 def test_solve_refuses_early_what_the_factorisation_cannot_hold(capsys):
     """Out of memory in the factorisation was reported as "the system matrix is singular"."""
-    code, stdout, stderr = run_cli(capsys, "solve", "square", "--level", "3", "--source", "1",
-                                   *WALLS, "--json")  # fmt: skip
-    fits = json.loads(stdout)["predicted_peak_bytes"]
-    code, stdout, stderr = run_cli(capsys, "solve", "square", "--level", "5", "--source", "1",
-                                   *WALLS, "--max-memory", str(int(fits * 1.05)))  # fmt: skip
+    import blockmesh
+    from blockmesh.memory import solve_command_predictor
+
+    predict = solve_command_predictor(blockmesh.load_domain("square"))
+    between = (predict(4).peak_bytes + predict(5).peak_bytes) // 2  # ~100 MB from either
+    code, stdout, stderr = run_cli(capsys, "solve", "square", "--level", "6", "--source", "1",
+                                   *WALLS, "--max-memory", str(between))  # fmt: skip
     assert code == 2 and stdout == ""
-    assert "largest level that fits is 3" in stderr and "factorisation" in stderr
+    assert "largest level that fits is 4" in stderr and "factorisation" in stderr
     assert "--max-memory" in stderr and "singular" not in stderr
 
 
