@@ -130,9 +130,7 @@ def renamed_keywords(**renamed: str) -> Callable[[Callable[..., T]], Callable[..
     """
 
     def decorate(function: Callable[..., T]) -> Callable[..., T]:
-        positions = {
-            name: k for k, name in enumerate(inspect.signature(function).parameters)
-        }
+        positions = {name: k for k, name in enumerate(inspect.signature(function).parameters)}
 
         @functools.wraps(function)
         def wrapper(*args: Any, **kwargs: Any) -> T:

@@ -8,7 +8,13 @@ import warnings
 
 import numpy as np
 
-from blockmesh.commands.common import add_domain_arguments, print_json, printable, resolve_target
+from blockmesh.commands.common import (
+    add_domain_arguments,
+    json_error,
+    print_json,
+    printable,
+    resolve_target,
+)
 from blockmesh.domain.blockgraph import certificate
 from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
@@ -46,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
                     {
                         "domain": name,
                         "valid": False,
-                        "error": type(error).__name__,
+                        **json_error(type(error).__name__, str(error), 1),
                         "problems": [p.strip() for p in problems if p.strip()],
                     }
                 )

@@ -50,6 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--level",
+        "-l",
         type=int,
         metavar="L",
         help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
@@ -212,8 +213,9 @@ def run(args: argparse.Namespace) -> int:
             )  # fmt: skip
         elif args.exact_geometry:
             print(
-                "  geometry        straight: no curved edges here (a mesh read from a file "
-                "keeps its nodes on the curves but not the curves)"
+                "  geometry        straight: no curved edges here (a .msh, .vtk, .mat or OpenFOAM "
+                "file keeps the nodes on the curves but not the curves; .npz, .xdmf and .vtu "
+                "keep them)"
             )
         if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):

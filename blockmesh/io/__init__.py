@@ -226,7 +226,7 @@ def write(
         ``tri5``); refused by the other formats.
     compression : str, optional
         ``"none"``, ``"zlib"`` or ``"lzma"`` as the format allows (``Format.compressions``);
-        default the format's own: ``zlib`` for VTU, ``none`` for the others.
+        default ``none`` (the fastest) for every format.
     **options
         Format-specific options (``Format.options``), e.g. ``dz=0.1`` for OpenFOAM.
 

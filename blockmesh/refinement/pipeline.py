@@ -259,7 +259,7 @@ def _assemble(
         "points": refined.points,
         "cells": refined.cells,
         "block_id": refined.block_id,
-        "parent": refined.parent,
+        "parent": refined.parent if steps else base.parent,  # no step: the same cells
         "boundary_edges": boundary_edges,
         "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
         "region": refined.region,

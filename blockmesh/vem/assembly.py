@@ -12,7 +12,10 @@ to the right-hand side); the remaining symmetric positive definite system is sol
   aggregation as its near-null space.
 
 A singular system (no boundary condition fixes a constant or a rigid motion) is detected before
-the solve by the callers; a failed solve raises :class:`~blockmesh.errors.SolverError`.
+the solve by the callers; a failed solve raises :class:`~blockmesh.errors.SolverError`, and a
+factorisation that runs out of memory :class:`~blockmesh.errors.ResourceError` (SuperLU reports
+a failed allocation as a ``RuntimeError`` "Malloc fails for ..." or as ``MemoryError``). The
+memory a direct solve needs is predicted by :func:`blockmesh.memory.predict_solve_command`.
 
 Examples
 --------
@@ -28,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -37,7 +41,7 @@ from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
 from blockmesh.checks import choice
-from blockmesh.errors import ArgumentError, SolverError
+from blockmesh.errors import ArgumentError, ResourceError, SolverError
 
 __all__ = [
     "SOLVERS",
@@ -177,12 +181,28 @@ def solve_system(
     return u, info
 
 
+#: How SuperLU words a failed allocation (its ABORT becomes a RuntimeError in scipy).
+_NO_MEMORY = re.compile(r"malloc|memory", re.IGNORECASE)
+
+
+def _out_of_memory(matrix: sparse.csr_matrix) -> ResourceError:
+    return ResourceError(
+        f"ran out of memory factorising the system of {matrix.shape[0]:,} unknowns "
+        f"({matrix.nnz:,} non-zeros) with the direct solver; try a lower level, "
+        "solver='amg', or free memory"
+    )
+
+
 def _solve_direct(matrix: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
     with warnings.catch_warnings():
         warnings.simplefilter("error", sparse_linalg.MatrixRankWarning)
         try:
             lu = sparse_linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A")
+        except MemoryError:
+            raise _out_of_memory(matrix) from None
         except (RuntimeError, sparse_linalg.MatrixRankWarning) as error:
+            if isinstance(error, RuntimeError) and _NO_MEMORY.search(str(error)):
+                raise _out_of_memory(matrix) from None
             raise SolverError(
                 f"the system matrix is singular ({error}); the boundary conditions do not "
                 "determine the solution"

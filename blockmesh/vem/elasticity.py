@@ -201,6 +201,9 @@ def solve_elasticity(
         For a patch given both conditions; displacement conditions that leave a rigid motion
         free (without ``constraint="rigid"``); unbalanced loads on a free rigid motion; a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)

@@ -191,6 +191,9 @@ def solve_poisson(
         For a patch given both conditions, a problem without anything fixing the constant (no
         Dirichlet patch, no reaction, no constraint), incompatible pure Neumann data, or a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)

@@ -13,6 +13,9 @@ Variables (every index and id 1-based, as MATLAB counts):
 ``Parent``        M x 1, the cell's parent at the previous level (0 at level 0)
 ``PatchNames``    1 x P cell array of char; ``RegionNames`` likewise
 ``Level``         the refinement level; ``Name`` the mesh name
+``CurvedEdges``   (a mesh with curved edges only) how many: the file keeps the nodes on the
+                  curves but not the curves, and :func:`read_mat` warns that refining the mesh
+                  read gives straight edges
 ================= ============================================================================
 
 Struct field names are the patch names made valid MATLAB identifiers (other characters become
@@ -125,6 +128,8 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
         "Level": float(mesh.level),
         "Name": mesh.name,
     }
+    if mesh.curves:
+        variables["CurvedEdges"] = float(len(mesh.curves))
     element = _cell_array_bytes("Element", (mesh.cells + 1).astype(np.float64))
     if compression == "zlib":
         packed = zlib.compress(element, 1)
@@ -139,7 +144,7 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
 
 #: The variables :func:`write_mat` writes.
 _VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "Region", "Parent",
-              "PatchNames", "RegionNames", "Level", "Name")  # fmt: skip
+              "PatchNames", "RegionNames", "Level", "Name", "CurvedEdges")  # fmt: skip
 
 
 def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> Iterator[bytes]:
@@ -318,6 +323,9 @@ def read_mat(path: Path) -> Mesh:
         patch_names=patch_names,
         level=level,
         name=name,
+        dropped_curves=int(np.asarray(data["CurvedEdges"]).ravel()[0])
+        if "CurvedEdges" in data
+        else 0,
     )
 
 

@@ -410,6 +410,7 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
         "patch_names": patch_names,
         "level": meta.get("level", 0),
         "name": meta.get("name", ""),
+        "dropped_curves": meta.get("curved_edges", 0),
     }
 
 

@@ -2,7 +2,9 @@
 
 The archive holds ``points, cells, block_id, parent, boundary_edges, boundary_patch, region`` as
 they are, ``patch_names`` and ``region_names`` as unicode arrays, ``level``, ``name`` and
-``format_version``; nothing needs pickling (it is read with ``allow_pickle=False``).
+``format_version``, and for a mesh with curved edges the arrays of
+:data:`~blockmesh.io._common.CURVE_ARRAYS` (so that refining the mesh read back follows the
+curves); nothing needs pickling (it is read with ``allow_pickle=False``).
 ``compression="zlib"`` uses :func:`numpy.savez_compressed`; the default ``"none"`` is
 :func:`numpy.savez` (fastest).
 
@@ -28,7 +30,7 @@ import numpy as np
 
 from blockmesh._system.atomic import atomic_file
 from blockmesh.errors import ExportError
-from blockmesh.io.common import Format, mesh_from_arrays
+from blockmesh.io.common import Format, curve_arrays, curves_from_arrays, mesh_from_arrays
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = ["FORMAT", "read_npz", "write_npz"]
@@ -45,6 +47,7 @@ def write_npz(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
     arrays["level"] = np.array(mesh.level, dtype=np.int64)
     arrays["name"] = np.array(mesh.name, dtype=str)
     arrays["format_version"] = np.array(_VERSION, dtype=np.int64)
+    arrays.update(curve_arrays(mesh))
     save = np.savez_compressed if compression == "zlib" else np.savez
     with atomic_file(path) as tmp, open(tmp, "wb") as f:
         save(f, **arrays)
@@ -80,6 +83,7 @@ def read_npz(path: Path) -> Mesh:
         patch_names=[str(s) for s in arrays["patch_names"].tolist()],
         level=int(arrays.get("level", 0)),
         name=str(arrays.get("name", "")),
+        curves=curves_from_arrays(arrays, where),
     )
 
 

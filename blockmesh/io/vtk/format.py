@@ -100,7 +100,7 @@ def write_vtk(mesh: Mesh, path: Path) -> Path:
             if at < 0:
                 raise ExportError(f"unexpected legacy VTK layout from meshio in {raw}")
             at += len(_DATASET)
-            fout.write(head[:at] + _field_block(field_data(mesh)) + head[at:])
+            fout.write(head[:at] + _field_block(field_data(mesh, curves=False)) + head[at:])
             shutil.copyfileobj(fin, fout, 1 << 22)
     return Path(path).absolute()
 
@@ -227,7 +227,7 @@ def read_vtk(path: Path) -> Mesh:
     parts = read_stream(Path(path)) if "blockmesh" in fields else None
     if parts is not None:  # a file blockmesh wrote: read straight into the arrays
         arrays = padded_arrays(
-            parts["points"], parts["cells"], parts["edges"], parts["cell_data"], fields, meta
+            parts["points"], parts["cells"], parts["edges"], parts["cell_data"], fields, meta, where
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)

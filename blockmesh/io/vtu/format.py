@@ -1,7 +1,8 @@
 """VTK ``.vtu`` (ParaView, VisIt, meshio): polygon cells plus the boundary as ``line`` cells.
 
-Written with meshio. The grid holds the pentagons (VTK_POLYGON) followed by the boundary edges
-(VTK_LINE), with integer cell data
+Written by :mod:`blockmesh.io.vtu.writer` in meshio's layout (arrays streamed piece by piece,
+compressed blocks on several threads). The grid holds the pentagons (VTK_POLYGON) followed by
+the boundary edges (VTK_LINE), with integer cell data
 
 =========== =========================== ========================
 array       on the polygons             on the lines
@@ -17,15 +18,22 @@ region, named ``patch:NAME`` and ``region:NAME``, whose value is the index the `
 ``region`` arrays use (ParaView lists them in its Information panel: ``patch:inlet  [1, 1]``).
 Text arrays would show better, but meshio cannot read them. The names, the level and the mesh
 name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its UTF-8 bytes), which
-blockmesh reads back. meshio does not write field data, so it is added to the XML after meshio
-has written the file; meshio and VTK read it back.
+blockmesh reads back. A mesh with curved edges also has the field data arrays of
+:data:`~blockmesh.io._common.CURVE_ARRAYS` (``curve_edges`` flattened, ``curve_index``,
+``curve_start``, ``curve_stop``, and ``curve_shapes``, the bytes of a JSON list), so that
+refining the mesh read back follows its curves. meshio and VTK read all of it back.
 
 Reading: the files blockmesh writes are decoded in chunks straight into the mesh's arrays
 (:mod:`blockmesh.io.vtu.stream`, about 1.7x the mesh at its peak); other VTU files, and damaged
 ones, are read with meshio.
 
-Compression: ``"zlib"`` (the default: ParaView reads it everywhere, about 3x smaller for little
-time), ``"lzma"`` (smaller still, several times slower), ``"none"`` (raw base64, fastest).
+Compression: ``"none"`` (the default: raw base64, the fastest, about twice the time of the
+refinement that made the mesh), ``"zlib"`` (zlib level 1 on several threads: about 2.5x smaller
+for about 4x the time of ``"none"``; ParaView reads it everywhere) or ``"lzma"`` (a third
+smaller than zlib, tens of times slower). At level 7 of the l-shape (6.7 M cells) on two busy
+cores: none 1.9 s of CPU and 690 MB, zlib 7.6 s and 278 MB, against 0.8 s for the refinement
+(meshio's writer, before: 9.6 s and 1,111 MB, 22.4 s and 287 MB);
+``benchmarks/bench_export.py --vtu`` measures them.
 
 Examples
 --------
@@ -54,16 +62,19 @@ import numpy as np
 if TYPE_CHECKING:
     import meshio
 
-from blockmesh._system.atomic import atomic_file, scratch_file
+from blockmesh._system.atomic import atomic_file
 from blockmesh.errors import ExportError
 from blockmesh.io.common import (
     Format,
+    curve_arrays,
+    curves_from_arrays,
     decode_metadata,
     encode_metadata,
     mesh_from_arrays,
     name_lookup,
 )
 from blockmesh.io.vtu.stream import read_stream
+from blockmesh.io.vtu.writer import write_vtu_stream
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
@@ -81,8 +92,11 @@ __all__ = [
 _FIELD = "blockmesh"
 
 
-def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
-    """The field data of a VTK file of ``mesh``: the name lookups and the JSON metadata.
+def field_data(mesh: Mesh, *, curves: bool = True) -> dict[str, np.ndarray]:
+    """The field data of a VTK file of ``mesh``: name lookups, metadata, curved edges.
+
+    That is the ``KIND:NAME`` lookups, the JSON metadata and, with ``curves``, the curved edges
+    (:func:`~blockmesh.io._common.curve_arrays`, flattened).
 
     Examples
     --------
@@ -98,13 +112,16 @@ def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
         for name, index in name_lookup(kind, names).items()
     }
     data[_FIELD] = np.frombuffer(encode_metadata(mesh).encode("utf-8"), dtype=np.uint8)
+    if curves:
+        data.update({k: v.reshape(-1) for k, v in curve_arrays(mesh).items()})
     return data
 
 
 def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
     arrays = []
+    kinds = {"u": "UInt8", "i": "Int64", "f": "Float64"}
     for name, values in data.items():
-        kind = "UInt8" if values.dtype == np.uint8 else "Int64"
+        kind = kinds[values.dtype.kind]
         text = " ".join(map(str, values.tolist()))
         arrays.append(
             f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="{values.size}" '
@@ -151,21 +168,14 @@ def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
     )
 
 
-def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
-    """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M)."""
-    import meshio
+def write_vtu(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
+    """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M).
 
-    out = meshio_mesh(mesh)
-    big = max(mesh.cells.nbytes * 2, mesh.points.nbytes * 2) >= 2**31
-    with atomic_file(path) as final, scratch_file(path) as raw:
-        meshio.vtu.write(
-            str(raw),
-            out,
-            binary=True,
-            compression=None if compression == "none" else compression,
-            header_type="UInt64" if big else None,
-        )
-        _insert_field_data(raw, final, field_data(mesh))
+    Streamed (:mod:`blockmesh.io.vtu.writer`): the arrays piece by piece, compressed blocks on
+    several threads, in meshio's layout with the field data in place.
+    """
+    with atomic_file(path) as final, open(final, "wb") as out:
+        write_vtu_stream(out, mesh, _field_data_xml(field_data(mesh)), compression=compression)
     return Path(path).absolute()
 
 
@@ -183,6 +193,16 @@ def _names(meta: dict, fields: dict, kind: str) -> list[str] | None:
     if not lookup or sorted(lookup) != list(range(len(lookup))):
         return None
     return [lookup[k] for k in range(len(lookup))]
+
+
+def _curves(meta: dict, fields: dict, where: str) -> dict[str, Any]:
+    """The level, name and curves arguments of :func:`mesh_from_arrays` from the field data."""
+    return {
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+        "curves": curves_from_arrays(fields, where),
+        "dropped_curves": meta.get("curved_edges", 0),
+    }
 
 
 def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
@@ -230,8 +250,7 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
         "boundary_edges": edges if edges is not None else (np.empty((0, 2)) if meta else None),
         "boundary_patch": patch,
         "patch_names": patch_names,
-        "level": meta.get("level", 0),
-        "name": meta.get("name", ""),
+        **_curves(meta, vm.field_data, where),
     }
 
 
@@ -242,6 +261,7 @@ def padded_arrays(
     cell_data: dict[str, tuple[np.ndarray, np.ndarray]],
     fields: dict[str, np.ndarray],
     meta: dict,
+    where: str = "the file",
 ) -> dict[str, Any]:
     """The arguments of :func:`mesh_from_arrays` from a VTK file's arrays, read directly.
 
@@ -264,8 +284,7 @@ def padded_arrays(
         "boundary_patch": patch,
         "patch_names": _names(meta, fields, "patch")
         or (None if patch is not None else ["boundary"]),
-        "level": meta.get("level", 0),
-        "name": meta.get("name", ""),
+        **_curves(meta, fields, where),
     }
 
 
@@ -300,7 +319,7 @@ def read_vtu(path: Path) -> Mesh:
     if parts is not None:
         meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
         arrays = padded_arrays(
-            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta
+            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta, where
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
@@ -325,5 +344,5 @@ FORMAT = Format(
     extensions=(".vtu",),
     writer=write_vtu,
     reader=read_vtu,
-    compressions=("zlib", "lzma", "none"),
+    compressions=("none", "zlib", "lzma"),
 )

@@ -16,7 +16,10 @@ grid attributes (ParaView shows them as field data: the index each name has), an
                                      ``/mesh/region``, ``/mesh/parent`` and ``/mesh/patch``
 ===================== ============== =========================================================
 
-and the root attribute ``blockmesh`` (the same JSON). The cells, in h5py:
+and the root attribute ``blockmesh`` (the same JSON). A mesh with curved edges also has the group
+``/curves`` with the arrays of :data:`~blockmesh.io._common.CURVE_ARRAYS` (``/curves/curve_edges``
+...), which ParaView ignores and :func:`read_xdmf` reads back, so that refining the mesh read
+follows its curves. The cells, in h5py:
 ``f["mesh/topology"][: 7 * M].reshape(M, 7)[:, 2:]``.
 
 Files, atomically. The ``.h5`` of ``mesh.xdmf`` is ``mesh.<8 hex digits>.h5``, a new name at
@@ -68,7 +71,10 @@ import numpy as np
 from blockmesh._system.atomic import atomic_with_data
 from blockmesh.errors import ExportError
 from blockmesh.io.common import (
+    CURVE_ARRAYS,
     Format,
+    curve_arrays,
+    curves_from_arrays,
     decode_metadata,
     encode_metadata,
     mesh_from_arrays,
@@ -200,6 +206,11 @@ def write_xdmf(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
             g.create_dataset(
                 "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
             )
+            curves = curve_arrays(mesh)
+            if curves:
+                c = f.create_group("curves")
+                for name, values in curves.items():
+                    c.create_dataset(name, data=values)
         tree = _xdmf_tree(mesh, h5.name, meta)
         with open(tmp_xdmf, "wb") as f:
             f.write(
@@ -367,6 +378,13 @@ def read_xdmf(path: Path) -> Mesh:
                 patch = attribute(lines_grid, "patch")
             elif meta:
                 edges = np.empty((0, 2), dtype=np.int64)
+        curves = None
+        if meta.get("curved_edges"):
+            data = top_el.find("DataItem")
+            h5name = "" if data is None else (data.text or "").strip().partition(":")[0]
+            curves = curves_from_arrays(
+                {k: heavy.dataset(f"{h5name}:/curves/{k}") for k in CURVE_ARRAYS}, where
+            )
         return mesh_from_arrays(
             points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
             cells,
@@ -380,6 +398,7 @@ def read_xdmf(path: Path) -> Mesh:
             patch_names=meta.get("patch_names") or (("boundary",) if edges is not None else None),
             level=meta.get("level", 0),
             name=meta.get("name", ""),
+            curves=curves,
         )
     finally:
         heavy.close()
