@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -44,10 +45,16 @@ def bracket(holes_per_arm: int = 1, sides: int = 8) -> blockmesh.Domain:
     )
 
 
-def command_seconds(*argv: str) -> float:
-    """CPU seconds (user + system) of one ``blockmesh`` command in a fresh process."""
+def command_seconds(folder: Path, *argv: str) -> float:
+    """CPU seconds (user + system) of one ``blockmesh`` command in a fresh process.
+
+    It runs in ``folder``: ``python -m`` puts the working folder first on the path, which in a
+    checkout would shadow the blockmesh that ``PYTHONPATH`` names (to measure another version).
+    """
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([sys.executable, "-m", "blockmesh", *argv], check=True, capture_output=True)
+    subprocess.run(
+        [sys.executable, "-m", "blockmesh", *argv], check=True, capture_output=True, cwd=folder
+    )
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
@@ -81,14 +88,17 @@ def main() -> None:
 
     load = best_of(load_fresh, args.repeat)
     print(f"  Domain.from_toml           {load:7.3f} s (best of {args.repeat}; checks included)")
-    for argv in (
-        ["check", str(path)],
-        ["show", str(path), "-o", str(folder / "b.png")],
-        ["mesh", str(path), "--level", "1"],
-        ["solve", str(path), "--level", "1", "--source", "1", "--dirichlet", "fixed=0"],
-    ):
-        seconds = min(command_seconds(*argv) for _ in range(max(1, args.repeat // 2)))
-        print(f"  blockmesh {argv[0]:<16} {seconds:7.3f} s CPU")
+    try:
+        for argv in (
+            ["check", str(path)],
+            ["show", str(path), "-o", str(folder / "b.png")],
+            ["mesh", str(path), "--level", "1"],
+            ["solve", str(path), "--level", "1", "--source", "1", "--dirichlet", "fixed=0"],
+        ):
+            seconds = min(command_seconds(folder, *argv) for _ in range(max(1, args.repeat // 2)))
+            print(f"  blockmesh {argv[0]:<16} {seconds:7.3f} s CPU")
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 if __name__ == "__main__":
