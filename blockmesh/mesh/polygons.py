@@ -67,6 +67,10 @@ from blockmesh.mesh.mesh import Mesh, MeshQuality
 
 __all__ = ["CellGroup", "PolygonMesh", "as_polygon_mesh"]
 
+#: A vertex within this many coordinate spacings (ulps) of the chord of its two neighbours is
+#: straight whatever its sine: midpoints are rounded to the spacing.
+_STRAIGHT_ULPS = 16
+
 #: Relative size (against the squared size of the cell) below which a fan triangle from the
 #: vertex mean counts as having no area: such a cell is not star-shaped from its vertex mean.
 _STAR_TOL = 1e-14
@@ -637,8 +641,10 @@ class PolygonMesh:
     def straight_vertices(self) -> np.ndarray:
         """For every slot, whether its vertex is straight in its cell (180 degrees), (S,) bool.
 
-        Straight: the turn's sine is within :data:`~blockmesh.geometry.COLLINEAR_SIN_TOL` and the
-        edges continue forwards, or both edges lie on the same curve. Hanging nodes are straight
+        Straight: the edges continue forwards and the turn's sine is within
+        :data:`~blockmesh.geometry.COLLINEAR_SIN_TOL` or the vertex is within 16 coordinate
+        spacings of the chord of its neighbours (a rounded midpoint); or both edges lie on the
+        same curve. Hanging nodes are straight
         vertices of the coarser cell.
         """
         if "straight" not in self._cache:
@@ -646,6 +652,14 @@ class PolygonMesh:
             sines = self.turn_sines()
             forward = np.einsum("sd,sd->s", incoming, outgoing) > 0
             straight = (np.abs(np.nan_to_num(sines, nan=1.0)) <= COLLINEAR_SIN_TOL) & forward
+            # A midpoint is rounded to the coordinates' spacing: far from the origin a node
+            # halving a short edge can be that far off the chord. Within a few spacings of it
+            # the vertex is straight.
+            cross = np.abs(incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0])
+            chord = np.hypot(*(incoming + outgoing).T)
+            reach = np.max(np.abs(self.points[self.nodes]), axis=1)
+            off = np.divide(cross, chord, out=np.full_like(cross, np.inf), where=chord > 0)
+            straight |= forward & (off <= _STRAIGHT_ULPS * np.spacing(reach))
             straight |= self._curve_continues()
             straight.setflags(write=False)
             self._cache["straight"] = straight
