@@ -17,6 +17,8 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from blockmesh._system.memory import available_memory, format_bytes, process_rss
 from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
 from blockmesh.commands._progress import StageProgress
@@ -35,7 +37,18 @@ from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, ResourceError
 from blockmesh.io import SPLITS, check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.local import refine_locally
+from blockmesh.refinement.marking import (
+    Marking,
+    any_of,
+    check_marks,
+    in_region,
+    near_patch,
+    parse_near,
+    where,
+)
 from blockmesh.refinement.pipeline import NUMBERINGS, refine
 from blockmesh.refinement.sizes import check_fits, mesh_command_predictor
 
@@ -99,6 +112,41 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         choices=("none", "zlib", "lzma"),
         help="compression of the output, where the format has it (default: zlib for .vtu, none "
         "otherwise)",
+    )
+    local = parser.add_argument_group(
+        "local refinement",
+        "after the uniform LEVEL, split only some cells (their new edge nodes hang on the coarse "
+        "neighbours, at most one per side; the mesh then has polygons of 5 to 11 vertices). "
+        "Several options mark the union; every round asks them again on the refined mesh.",
+    )
+    local.add_argument(
+        "--refine-where",
+        action="append",
+        default=[],
+        metavar="EXPR",
+        help="split the cells where EXPR(x, y) > 0 at the centre or a vertex, e.g. "
+        "'0.2 - sqrt((x-1)^2 + (y-1)^2)' (repeatable)",
+    )
+    local.add_argument(
+        "--refine-region",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="split the cells of region NAME (repeatable)",
+    )
+    local.add_argument(
+        "--refine-near",
+        action="append",
+        default=[],
+        metavar="PATCH:DISTANCE",
+        help="split the cells within DISTANCE of boundary patch PATCH (repeatable)",
+    )
+    local.add_argument(
+        "--refine-rounds",
+        type=int,
+        default=1,
+        metavar="K",
+        help="rounds of local refinement (default 1)",
     )
     parser.add_argument("--plot", metavar="PNG", help="draw the mesh")
     parser.add_argument(
@@ -188,6 +236,10 @@ def _mesh_one(
                 smooth=options["smooth"],
                 max_memory=options["max_memory"],
             )
+    local = None
+    if options["marking"] is not None:
+        with _stage(progress, "refining the marked cells", prediction) as tick:
+            mesh, local = _refine_marked(mesh, options, tick)
     seconds = time.perf_counter() - started
     with _stage(progress, "measuring the cells", prediction) as tick:
         quality = mesh.quality(progress=tick)
@@ -217,6 +269,8 @@ def _mesh_one(
         "quality_plot": None,
         "output": None,
     }
+    if local is not None:
+        report["local_refinement"] = local
     if options["plot"]:
         from blockmesh.plot import plot_mesh
 
@@ -242,7 +296,51 @@ def _mesh_one(
     return report
 
 
-def _fill(pattern: str, mesh: Mesh) -> str:
+def _refine_marked(
+    mesh: Mesh | PolygonMesh, options: dict[str, Any], tick: Callable[[int, int], None]
+) -> tuple[PolygonMesh, dict[str, Any]]:
+    """The rounds of local refinement the options ask for, and what they did."""
+    marking = options["marking"]
+    rounds = options["refine_rounds"]
+    check_marks(marking, mesh)  # a marking of no cell is an error, not a silent no-op
+    marked: list[int] = []
+
+    def counting(current: Mesh | PolygonMesh) -> np.ndarray:
+        mask = np.asarray(marking(current), dtype=bool)
+        marked.append(int(mask.sum()))
+        return mask
+
+    counting.__doc__ = marking.__doc__
+    refined = refine_locally(
+        mesh, counting, rounds, max_memory=options["max_memory"], progress=tick
+    )
+    return refined, {
+        "rounds": len(marked) if marked[-1] else len(marked) - 1,
+        "marked": [m for m in marked if m],
+        "marking": marking.__doc__,
+        "hanging_nodes": int(refined.hanging_nodes().size),
+        "max_vertices": int(refined.cell_sizes().max()),
+    }
+
+
+def _marking(args: argparse.Namespace) -> Marking | None:
+    """The union of the --refine-* options as one marking (None without them)."""
+    parts: list[Marking] = [where(text) for text in args.refine_where]
+    parts += [in_region(name) for name in args.refine_region]
+    parts += [near_patch(*parse_near(text)) for text in args.refine_near]
+    if args.refine_rounds < 1:
+        raise BlockMeshError(f"--refine-rounds must be 1 or more, got {args.refine_rounds}")
+    if not parts:
+        if args.refine_rounds != 1:
+            raise BlockMeshError(
+                "--refine-rounds counts rounds of local refinement: give --refine-where, "
+                "--refine-region or --refine-near too"
+            )
+        return None
+    return parts[0] if len(parts) == 1 else any_of(*parts)
+
+
+def _fill(pattern: str, mesh: Mesh | PolygonMesh) -> str:
     return fill_template(pattern, name=mesh.name or "mesh", level=mesh.level)
 
 
@@ -256,7 +354,15 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         # Fail before meshing: an unknown format or an option it does not take is known now.
         fmt = format_for_path(args.output, args.format)
         check_options(fmt, split=args.split, compression=args.compression)
+    marking = _marking(args)
+    if marking is not None and args.numbering != "nested":
+        raise BlockMeshError(
+            "--numbering rcm renumbers an all-pentagon mesh; local refinement keeps the nested "
+            "numbering"
+        )
     return {
+        "marking": marking,
+        "refine_rounds": args.refine_rounds,
         "level": args.level,
         "numbering": args.numbering,
         "smooth": args.smooth,
@@ -282,6 +388,15 @@ def _print_report(report: dict[str, Any], done: str = "refined") -> None:
         f"{q['max_aspect_ratio']:.3g}, area ratio {q['area_ratio']:.3g}, "
         f"not strictly convex: {q['not_strictly_convex']}"
     )
+    local = report.get("local_refinement")
+    if local:
+        counts = ", ".join(f"{m:,}" for m in local["marked"])
+        print(
+            f"  local refinement: {local['rounds']} round(s) marking {counts} cells "
+            f"({printable(local['marking'])}); "
+            f"{local['hanging_nodes']:,} hanging nodes, cells of up to {local['max_vertices']} "
+            "vertices"
+        )
     bandwidth = report["bandwidth"]
     line = f"  bandwidth {bandwidth['nested']:,} (nested)"
     if bandwidth["rcm"] is not None:
@@ -310,6 +425,11 @@ def _partitioned_options(args: argparse.Namespace) -> None:
         )
     if args.level < 1:
         raise BlockMeshError(f"--partitions needs --level 1 or more, got {args.level}")
+    if args.refine_where or args.refine_region or args.refine_near:
+        raise BlockMeshError(
+            "--partitions makes a uniform mesh; local refinement (--refine-where, "
+            "--refine-region, --refine-near) runs without --partitions"
+        )
     if args.numbering != "nested" or args.smooth or args.quality_rule != "paper":
         raise BlockMeshError(
             "--partitions makes the paper's mesh: nested numbering, no smoothing, the paper's "

@@ -4,7 +4,11 @@
 ``--reaction``); ``--equation elasticity`` plane linear elasticity (``--young``,
 ``--poisson-ratio``, ``--plane``; vector data as ``"EXPR_X, EXPR_Y"``). ``--dirichlet PATCH=EXPR``
 prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` the outward flux
-(the traction); other patches are natural (zero flux, traction-free).
+(the traction); other patches are natural (zero flux, traction-free). ``PATCH`` may be ``*``:
+every patch no other option names.
+
+``--adapt`` solves adaptively instead (:mod:`blockmesh.commands.solve_adaptive`): estimate,
+mark, refine the marked cells locally, repeat until ``--tol`` or ``--max-unknowns``.
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ from blockmesh.commands.common import (
     print_json,
     resolve_domain,
 )
+from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
 from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
@@ -53,9 +58,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--level",
         "-l",
         type=int,
-        default=DEFAULT_LEVEL,
+        default=None,
         metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+        "with --adapt the starting level, default 0)",
     )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
@@ -68,7 +74,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="append",
         default=[],
         metavar="PATCH=EXPR",
-        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be 'free'",
+        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be "
+        "'free'. PATCH * stands for every patch no other --dirichlet or --neumann names",
     )
     parser.add_argument(
         "--neumann",
@@ -120,6 +127,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
     )
     parser.add_argument("--plot", metavar="PNG", help="draw the solution")
+    add_adaptive_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
 
@@ -141,7 +149,35 @@ def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str
     return values
 
 
+def _with_star(
+    values: dict[str, dict[str, str]], patch_names: tuple[str, ...]
+) -> tuple[dict[str, str], dict[str, str]]:
+    """``*=EXPR`` given to every patch that no other option names (at most one ``*``)."""
+    stars = [flag for flag, given in values.items() if "*" in given]
+    if len(stars) > 1:
+        raise BlockMeshError(
+            "'*' is given to both --dirichlet and --neumann; '*' stands for every patch the "
+            "other options do not name, once"
+        )
+    named = {patch for given in values.values() for patch in given if patch != "*"}
+    for flag, given in values.items():
+        unknown = [patch for patch in given if patch != "*" and patch not in patch_names]
+        if unknown:
+            raise BlockMeshError(
+                f"{flag} {unknown[0]}=...: no patch {unknown[0]!r}; the patches are "
+                f"{', '.join(patch_names)}"
+            )
+        if "*" in given:
+            expression = given.pop("*")
+            for patch in patch_names:
+                if patch not in named:
+                    given[patch] = expression
+    return values["--dirichlet"], values["--neumann"]
+
+
 def _check(args: argparse.Namespace) -> None:
+    if args.level is None:
+        args.level = 0 if args.adapt else DEFAULT_LEVEL
     if args.level < 0:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
@@ -160,6 +196,7 @@ def _check(args: argparse.Namespace) -> None:
         raise BlockMeshError(
             "--stabilization identity is for poisson; elasticity takes trace or diagonal"
         )
+    check_adaptive(args)
     check_folders(args.output, args.plot)
 
 
@@ -210,8 +247,13 @@ def run(args: argparse.Namespace) -> int:
     dirichlet = _patch_values(args.dirichlet, "--dirichlet", seen)
     neumann = _patch_values(args.neumann, "--neumann", seen)
     domain = resolve_domain(args)
+    dirichlet, neumann = _with_star(
+        {"--dirichlet": dirichlet, "--neumann": neumann}, domain.patch_names
+    )
     started = time.perf_counter()
     mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
+    if args.adapt:
+        return run_adaptive(args, mesh, lambda m: _solve(args, m, dirichlet, neumann))
     try:
         solution = _solve(args, mesh, dirichlet, neumann)
     except SolverError as error:  # the library names its keyword; here the flag is meant

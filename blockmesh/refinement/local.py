@@ -117,7 +117,9 @@ def marked_cells(
     [True, False, False, False, False, True]
     """
     m = mesh.n_cells
+    what = "the marking"
     if callable(cells):
+        what = f"the marking ({cells.__doc__})" if cells.__doc__ else what
         cells = cells(mesh)
     if isinstance(cells, bool | str) or cells is None:
         raise ArgumentTypeError(
@@ -144,7 +146,7 @@ def marked_cells(
         mask[ids] = True
     if not mask.any() and not allow_empty:
         raise ArgumentError(
-            f"the marking marks none of the {m:,} cells; nothing would be refined (mark at "
+            f"{what} marks none of the {m:,} cells; nothing would be refined (mark at "
             "least one cell, or refine uniformly with level=)"
         )
     return mask
