@@ -23,6 +23,7 @@ import numpy as np
 from blockmesh.errors import BlockMeshError, ExportError
 from blockmesh.geometry.topology import boundary_of_cells
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "METADATA_VERSION",
@@ -54,7 +55,7 @@ class Format:
         ``writer(mesh, path, **options) -> Path``, the path written; it writes atomically
         (:mod:`blockmesh._system.atomic`).
     reader : callable or None
-        ``reader(path) -> Mesh``.
+        ``reader(path) -> Mesh``, or a PolygonMesh for a file of polygon cells.
     splits : tuple of str
         For a format without pentagons, the ways of splitting them it takes (names of
         :data:`blockmesh.io.SPLITS`), the first being the default; empty when the format keeps
@@ -71,7 +72,7 @@ class Format:
     description: str
     extensions: tuple[str, ...]
     writer: Callable[..., Path] = field(repr=False)
-    reader: Callable[[Path], Mesh] | None = field(default=None, repr=False)
+    reader: Callable[[Path], Mesh | PolygonMesh] | None = field(default=None, repr=False)
     splits: tuple[str, ...] = ()
     compressions: tuple[str, ...] = ("none",)
     directory: bool = False
@@ -119,18 +120,19 @@ class Format:
         return ", ".join(parts) or "no options"
 
 
-def check_mesh(mesh: Any) -> Mesh:
-    """``mesh`` itself if it is a non-empty :class:`~blockmesh.mesh.Mesh`, else ExportError."""
-    if not isinstance(mesh, Mesh):
+def check_mesh(mesh: Any) -> Mesh | PolygonMesh:
+    """``mesh`` itself if it is a non-empty Mesh or PolygonMesh, else ExportError."""
+    if not isinstance(mesh, Mesh | PolygonMesh):
         raise ExportError(
-            f"write() takes a blockmesh Mesh (from blockmesh.refine), got {type(mesh).__name__}"
+            "write() takes a blockmesh Mesh or PolygonMesh (from blockmesh.refine), got "
+            f"{type(mesh).__name__}"
         )
     if mesh.n_cells == 0:
         raise ExportError("the mesh has no cells; there is nothing to write")
     return mesh
 
 
-def encode_metadata(mesh: Mesh, **extra: Any) -> str:
+def encode_metadata(mesh: Mesh | PolygonMesh, **extra: Any) -> str:
     """The names and level of a mesh (what the arrays cannot carry), plus ``extra``, as JSON."""
     return json.dumps(
         {

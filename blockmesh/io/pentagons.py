@@ -35,7 +35,7 @@ import numpy as np
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import edge_keys
 
-__all__ = ["Merged", "join_lines", "merge_elements"]
+__all__ = ["Merged", "join_lines", "merge_elements", "merge_polygons"]
 
 #: Elements per pentagon of each split.
 _PER_PENTAGON = {"tri3": 3, "tri5": 5, "quad5": 5}
@@ -258,6 +258,40 @@ def merge_elements(
         return Merged(cells, first, is_corner, None, None)
     renumber = np.cumsum(is_corner) - 1
     return Merged(renumber[cells], first, is_corner, np.flatnonzero(is_corner), renumber)
+
+
+def merge_polygons(
+    conn: np.ndarray, cell: np.ndarray, points: np.ndarray, *, where: str, corner_nodes: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Merge elements back into the polygons they were split from (any vertex counts).
+
+    ``conn`` (K, k) are the counter-clockwise elements, ``cell`` (K,) the polygon of each
+    (0..M-1), and the polygons' vertices are the first ``corner_nodes`` nodes (the mesh's own;
+    the split's centres come after). Returns ``(offsets, nodes, first_element)``: each polygon
+    from its first element's first node, counter-clockwise, with every one of the mesh's nodes
+    on its outline (hanging nodes included). O(K log K).
+    """
+    ids, elem_p = np.unique(np.reshape(cell, -1), return_inverse=True)
+    if ids.size and (ids[0] < 0 or ids[-1] != ids.size - 1):
+        raise ExportError(
+            f"{where}: the cell ids of the elements are not 0..{ids.size - 1} (found "
+            f"{ids[0]}..{ids[-1]})"
+        )
+    k = conn.shape[1]
+    conn = conn.astype(np.int64, copy=False)
+    edges = np.stack([conn, np.roll(conn, -1, axis=1)], axis=2).reshape(-1, 2)
+    owner = np.repeat(elem_p, k)
+    first = np.lexsort((np.arange(conn.shape[0]), elem_p))
+    first = first[np.r_[True, elem_p[first][1:] != elem_p[first][:-1]]]
+    ring = _outlines(edges, owner, conn[first, 0], points.shape[0], where)
+    valid = ring >= 0
+    keep = valid & (np.where(valid, ring, corner_nodes) < corner_nodes)
+    counts = keep.sum(axis=1)
+    if np.any(counts < 3):
+        bad = int(np.flatnonzero(counts < 3)[0])
+        raise ExportError(f"{where}: the elements of cell {bad} merge into fewer than 3 nodes")
+    offsets = np.concatenate([[0], np.cumsum(counts)])
+    return offsets, ring[keep], first
 
 
 def join_lines(

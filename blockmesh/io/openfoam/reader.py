@@ -33,10 +33,24 @@ import numpy as np
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
 from blockmesh.io.common import mesh_from_arrays
+from blockmesh.io.polygons import polygon_mesh_from_arrays
 from blockmesh.io.text import TextReader, parse_numbers
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
-__all__ = ["foam_file", "read_boundary", "read_faces", "read_list", "read_openfoam"]
+__all__ = [
+    "FaceSizeError",
+    "foam_file",
+    "read_boundary",
+    "read_faces",
+    "read_list",
+    "read_openfoam",
+]
+
+
+class FaceSizeError(ExportError):
+    """Faces of a range that are not all of the size asked for (e.g. polygons, not pentagons)."""
+
 
 _INT32 = np.iinfo(np.int32).max
 _CHUNK = 1 << 18
@@ -217,11 +231,11 @@ def read_faces(poly: Path, ranges: list[tuple[int, int, int]]) -> list[np.ndarra
                     n, 1 + size, np.int64, np.int32 if count <= _INT32 else np.int64, blank=b"()"
                 )
             except ExportError:
-                raise ExportError(
+                raise FaceSizeError(
                     f"{r.where}: faces {start}..{start + n - 1} are not all of {size} nodes"
                 ) from None
             if np.any(rows[:, 0] != size):
-                raise ExportError(
+                raise FaceSizeError(
                     f"{r.where}: faces {start}..{start + n - 1} are not all of {size} nodes"
                 )
             out.append(rows[:, 1:])
@@ -304,15 +318,23 @@ def _find_polymesh(path: Path) -> Path:
     )
 
 
-def read_openfoam(path: Path) -> Mesh:
+def read_openfoam(path: Path) -> Mesh | PolygonMesh:
     """Read a one-layer extruded polyMesh (as :func:`write_openfoam` writes) back to pentagons.
+
+    When the front and back faces are polygons of other sizes (a PolygonMesh written), the case
+    is read as a PolygonMesh (:mod:`blockmesh.io.openfoam.polygons`).
 
     ``path`` is the case, its ``constant`` directory or the ``polyMesh`` directory. ASCII files
     (optionally gzipped) only. O(F) in the number of faces; the internal faces are skipped.
     """
     path = Path(path).absolute()
     poly = _find_polymesh(path)
-    arrays = _mesh_arrays(poly)  # the parsed files are freed before the Mesh is built
+    try:
+        arrays = _mesh_arrays(poly)  # the parsed files are freed before the Mesh is built
+    except FaceSizeError:
+        from blockmesh.io.openfoam.polygons import read_polygon_case
+
+        return polygon_mesh_from_arrays(where=str(poly), **read_polygon_case(poly))
     return mesh_from_arrays(where=str(poly), **arrays)
 
 
