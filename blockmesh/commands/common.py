@@ -18,6 +18,7 @@ from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
 from blockmesh.io import FORMATS, read
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "ProgressBar",
@@ -68,7 +69,7 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
     that also work on meshes use :func:`resolve_target`.
     """
     target = resolve_target(args)
-    if isinstance(target, Mesh):
+    if isinstance(target, Mesh | PolygonMesh):
         raise BlockMeshError(
             f"{_one_name(args)} is a mesh file, not a domain; this command needs a domain "
             "(a catalogue name, a .toml file or --polygon)"
@@ -76,7 +77,7 @@ def resolve_domain(args: argparse.Namespace) -> Domain:
     return target
 
 
-def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
+def resolve_target(args: argparse.Namespace) -> Domain | Mesh | PolygonMesh:
     """The domain named on the command line, or the mesh in a mesh file blockmesh reads.
 
     A refined mesh is a valid thing to check, integrate over or refine further, so ``DOMAIN``
@@ -119,7 +120,7 @@ def is_mesh_file(name: str) -> bool:
     return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())
 
 
-def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
+def load_target(name: str, *, progress: bool = False) -> Domain | Mesh | PolygonMesh:
     """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`.
 
     With ``progress``, a read that takes over a second shows a line on stderr
