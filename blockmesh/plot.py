@@ -12,6 +12,7 @@ True
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -187,8 +188,12 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 8))
     polygons = isinstance(mesh, PolygonMesh)
-    xy = [mesh.points[c] for c in mesh.cell_lists()] if polygons else mesh.points[mesh.cells]
-    centres = mesh.vertex_means() if polygons else xy.mean(axis=1)
+    if polygons:
+        xy: Any = [mesh.points[c] for c in mesh.cell_lists()]
+        centres = mesh.vertex_means()
+    else:
+        xy = mesh.points[mesh.cells]
+        centres = xy.mean(axis=1)
     n_blocks = int(mesh.block_id.max()) + 1 if mesh.n_cells else 1
     palette = plt.get_cmap("Pastel1" if n_blocks <= 9 else "tab20")
     faces = palette((mesh.block_id % palette.N) / max(palette.N - 1, 1))

@@ -15,7 +15,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
@@ -39,7 +39,7 @@ from blockmesh.io import SPLITS, check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
-from blockmesh.refinement.local import refine_locally
+from blockmesh.refinement.local import predict_local_size, refine_locally
 from blockmesh.refinement.marking import (
     Marking,
     any_of,
@@ -210,32 +210,62 @@ def _stage(progress: StageProgress, label: str, prediction) -> Iterator[Callable
         ) from None
 
 
+class _PolygonPrediction(NamedTuple):
+    """What the stages' messages say of a polygon mesh refined further (its own guard ran)."""
+
+    peak_bytes: int
+    level: int
+
+
+def _refine_polygons(
+    target: PolygonMesh, options: dict[str, Any], progress: StageProgress
+) -> tuple[PolygonMesh, _PolygonPrediction]:
+    """A polygon mesh read from a file, every cell split ``--level`` times by the local rule."""
+    if options["smooth"] or options["quality_rule"] != "paper" or options["numbering"] != "nested":
+        raise BlockMeshError(
+            f"{printable(target.name or 'the mesh')} is a polygon mesh (hanging nodes): it is "
+            "refined by the paper's rule, without --smooth, --quality-rule or --numbering rcm"
+        )
+    size = predict_local_size(target, np.ones(target.n_cells, dtype=bool))
+    prediction = _PolygonPrediction(size.peak_bytes, target.level + options["level"])
+    if options["level"] == 0:
+        return target, prediction
+    with _stage(progress, "refining", prediction) as tick:
+        mesh = refine(target, options["level"], max_memory=options["max_memory"], progress=tick)
+    return mesh, prediction
+
+
 def _mesh_one(
-    target: Domain | Mesh,
+    target: Domain | Mesh | PolygonMesh,
     options: dict[str, Any],
     output: str | None,
     progress: StageProgress | None = None,
 ) -> dict[str, Any]:
     """Mesh, draw and write one domain (or refine a mesh further); the JSON-ready report."""
     progress = progress or StageProgress("", enabled=False)
-    prediction = _check_memory(target, options, output)
     started = time.perf_counter()
-    with _stage(progress, "refining", prediction) as tick:
-        mesh = refine(
-            target,
-            options["level"] if options["quality_rule"] == "paper" else 0,
-            smooth=options["smooth"],
-            max_memory=options["max_memory"],
-            progress=tick,
-        )
-        if options["quality_rule"] != "paper":
-            mesh = refine_with_rule(
-                mesh,
-                options["level"],
-                rule=options["quality_rule"],
+    mesh: Mesh | PolygonMesh
+    prediction: Any
+    if isinstance(target, PolygonMesh):
+        mesh, prediction = _refine_polygons(target, options, progress)
+    else:
+        prediction = _check_memory(target, options, output)
+        with _stage(progress, "refining", prediction) as tick:
+            mesh = refine(
+                target,
+                options["level"] if options["quality_rule"] == "paper" else 0,
                 smooth=options["smooth"],
                 max_memory=options["max_memory"],
+                progress=tick,
             )
+            if options["quality_rule"] != "paper":
+                mesh = refine_with_rule(
+                    mesh,
+                    options["level"],
+                    rule=options["quality_rule"],
+                    smooth=options["smooth"],
+                    max_memory=options["max_memory"],
+                )
     local = None
     if options["marking"] is not None:
         with _stage(progress, "refining the marked cells", prediction) as tick:
@@ -244,7 +274,7 @@ def _mesh_one(
     with _stage(progress, "measuring the cells", prediction) as tick:
         quality = mesh.quality(progress=tick)
         bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
-    if options["numbering"] == "rcm":
+    if options["numbering"] == "rcm" and isinstance(mesh, Mesh):
         with _stage(progress, "renumbering (reverse Cuthill-McKee)", prediction):
             mesh = mesh.with_rcm_numbering()
             bandwidth["rcm"] = mesh.bandwidth()
@@ -455,7 +485,7 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     if args.polygon is not None:
         if args.domain:
             raise BlockMeshError("give either DOMAIN or --polygon, not both")
-        target: Domain | Mesh = inline_polygon(args.polygon, args.hole)
+        target: Domain | Mesh | PolygonMesh = inline_polygon(args.polygon, args.hole)
     else:
         if len(args.domain or []) != 1:
             raise BlockMeshError("--partitions meshes one domain at a time")
@@ -463,15 +493,15 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     from blockmesh import distributed
     from blockmesh.distributed.files import pieces_dir
 
-    level = target.level + args.level if isinstance(target, Mesh) else args.level
+    level = target.level + args.level if isinstance(target, Mesh | PolygonMesh) else args.level
     output = fill_template(args.output, name=target.name or "mesh", level=level)
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
-    parts = distributed.partition(target, args.level, args.partitions)
+    parts = distributed.partition(target, args.level, args.partitions)  # refuses PolygonMesh
     predicted = max(distributed.predict_task_bytes(parts, p) for p in range(parts.n_partitions))
     label = f"making {args.partitions} pieces on Dask workers"
     with progress.stage(label) as tick:
         made = distributed.refine_to(
-            target,
+            cast(Domain | Mesh, target),  # partition() has refused a PolygonMesh
             args.level,
             output,
             partitions=args.partitions,

@@ -100,7 +100,9 @@ class CurvedEdges:
         return out
 
 
-def curved_slots(cells: np.ndarray, n_points: int, curves: CurvedEdges):
+def curved_slots(
+    cells: np.ndarray | PolygonCells, n_points: int, curves: CurvedEdges
+) -> tuple[np.ndarray, np.ndarray]:
     """For every cell edge (slot), its row in ``curves`` (-1 when straight) and direction.
 
     ``cells`` is (M, k), k >= 2 (edge ``i`` from corner ``i`` to ``i + 1``; boundary edges are

@@ -30,7 +30,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -338,6 +338,7 @@ def _directed_keys_among(
     on_free[ends[0]] = True
     on_free[ends[1]] = True
     found = []
+    pieces: Iterable[tuple[np.ndarray, np.ndarray]]
     if isinstance(cells, PolygonCells):
         pieces = [(cells.nodes, cells.following())]
     else:

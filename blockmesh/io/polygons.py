@@ -47,13 +47,12 @@ def is_polygon_file(meta: dict[str, Any]) -> bool:
 
 def blocks_to_rows(blocks: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """Compressed rows (offsets, nodes) of rectangular blocks of cells, in order."""
-    sizes = np.concatenate(
-        [np.full(b.shape[0], b.shape[1], dtype=np.int64) for b in blocks] or [np.zeros(0, np.int64)]
-    )
+    parts = [np.full(b.shape[0], b.shape[1], dtype=np.int64) for b in blocks]
+    sizes = np.concatenate(parts) if parts else np.zeros(0, np.int64)
     offsets = np.zeros(sizes.size + 1, dtype=np.int64)
     np.cumsum(sizes, out=offsets[1:])
-    nodes = np.concatenate([np.asarray(b, dtype=np.int64).ravel() for b in blocks] or [[]])
-    return offsets, nodes.astype(np.int64)
+    rows = [np.asarray(b, dtype=np.int64).ravel() for b in blocks]
+    return offsets, np.concatenate(rows) if rows else np.zeros(0, np.int64)
 
 
 def rows_to_blocks(offsets: np.ndarray, nodes: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:

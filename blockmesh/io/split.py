@@ -86,9 +86,10 @@ def check_split(split: str | None) -> str:
     return split
 
 
-def _midpoints(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+def _midpoints(mesh: Mesh | PolygonMesh) -> tuple[np.ndarray, np.ndarray]:
     """Unique edge keys (sorted) and, per cell edge slot (M, 5), the index of its edge."""
-    return edge_index(mesh.cells, mesh.n_points)
+    cells = mesh.polygon_cells() if isinstance(mesh, PolygonMesh) else mesh.cells
+    return edge_index(cells, mesh.n_points)
 
 
 def split_cells(mesh: Mesh | PolygonMesh, split: str) -> SplitCells:

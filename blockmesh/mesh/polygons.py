@@ -259,9 +259,9 @@ class PolygonMesh:
             )
         sizes = np.diff(offsets)
         if np.any(sizes < 3):
-            bad = int(np.flatnonzero(sizes < 3)[0])
+            small = int(np.flatnonzero(sizes < 3)[0])
             raise ArgumentError(
-                f"cell {bad} has {int(sizes[bad])} vertices; a cell needs 3 or more"
+                f"cell {small} has {int(sizes[small])} vertices; a cell needs 3 or more"
             )
         for name in ("block_id", "parent", "region", "cell_level"):
             length = getattr(self, name).shape[0]
@@ -285,7 +285,9 @@ class PolygonMesh:
         ):
             if values.size == 0:
                 continue
-            bad = values < low if high is None else (values < low) | (values >= high)
+            bad: np.ndarray = values < low
+            if high is not None:
+                bad |= values >= high
             if np.any(bad):
                 at = int(np.flatnonzero(bad.ravel())[0])
                 valid = f"{low}.." if high is None else f"{low}..{high - 1}"

@@ -68,6 +68,15 @@ __all__ = [
     "refine_marked",
 ]
 
+#: An empty curve table (meshes without curves).
+_NO_CURVES = CurvedEdges(
+    edges=np.empty((0, 2), np.int64),
+    curve=np.empty(0, np.int64),
+    start=np.empty(0),
+    stop=np.empty(0),
+    curves=(),
+)
+
 #: Hanging nodes a side of a cell may carry after local refinement.
 HANGING_PER_SIDE = 1
 
@@ -383,8 +392,8 @@ def _split(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> PolygonMesh:
     hanging = following[first]  # the side's middle node when length == 2
 
     # Curved sides: the row of the curves table of each (first) edge.
-    curves = mesh.curves
-    has_curves = curves is not None and len(curves) > 0
+    curves = mesh.curves if mesh.curves is not None else _NO_CURVES
+    has_curves = len(curves) > 0
     if has_curves:
         slot_row, _ = curved_slots(cells, n, curves)
         side_row = slot_row[first]

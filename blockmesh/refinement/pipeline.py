@@ -25,7 +25,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import Any, Protocol, overload
 
 import numpy as np
 
@@ -65,9 +65,51 @@ class BlockSource(Protocol):
 def _block_mesh_of(target: BlockSource | Mesh | PolygonMesh) -> Mesh:
     if isinstance(target, Mesh):
         return target
-    if callable(getattr(target, "block_mesh", None)):
+    if not isinstance(target, PolygonMesh) and callable(getattr(target, "block_mesh", None)):
         return target.block_mesh()
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
+
+
+@overload
+def refine(
+    domain_or_mesh: BlockSource | Mesh,
+    level: int,
+    *,
+    cells: None = None,
+    numbering: str = "nested",
+    smooth: int = 0,
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> Mesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any,
+    numbering: str = "nested",
+    smooth: int = 0,
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    numbering: str = "nested",
+    smooth: int = 0,
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
 
 
 def refine(

@@ -140,8 +140,9 @@ class AdaptiveResult:
             return {}
         n = np.log([s.unknowns for s in steps])
         out = {"estimator": float(-np.polyfit(n, np.log([s.estimator for s in steps]), 1)[0])}
-        if all(s.h1_error for s in steps):
-            errors = np.log([s.h1_error for s in steps])
+        h1 = [s.h1_error for s in steps if s.h1_error]
+        if len(h1) == len(steps):
+            errors = np.log(np.array(h1, dtype=float))
             out["h1_error"] = float(-np.polyfit(n, errors, 1)[0])
         return out
 
@@ -259,7 +260,7 @@ def solve_adaptive(
             unknowns=solution.info.dof,
             estimator=eta,
             **estimate.parts(),
-            marked=0 if stop else int(np.count_nonzero(marked)),
+            marked=0 if stop or marked is None else int(np.count_nonzero(marked)),
             hanging_nodes=int(current.hanging_nodes().size),
             max_vertices=int(current.cell_sizes().max()),
             seconds=0.0,
@@ -276,7 +277,7 @@ def solve_adaptive(
         step += 1
 
 
-def _errors(errors: Any, eta: float) -> dict[str, float | None]:
+def _errors(errors: Any, eta: float) -> dict[str, Any]:
     if errors is None:
         return {}
     energy = float(errors.energy)

@@ -176,3 +176,18 @@ def test_check_and_show_take_a_polygon_mesh(capsys, tmp_path: Path):
     assert code == 0 and (tmp_path / "m.png").stat().st_size > 0
     code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "x*y", "--json")
     assert code == 0 and abs(json.loads(out)["value"] - 1.75) < 1e-12
+
+
+def test_dask_pieces_refuse_a_polygon_mesh_with_the_reason(capsys, tmp_path: Path):
+    pytest.importorskip("dask")
+    from blockmesh.distributed.partition import partition
+    from blockmesh.errors import ArgumentTypeError
+
+    mesh = blockmesh.refine(blockmesh.load_domain("sp").mesh(1), cells=[0])
+    with pytest.raises(ArgumentTypeError, match="refine pentagon blocks uniformly"):
+        partition(mesh, 1, 2)
+    path = blockmesh.write(mesh, tmp_path / "m.npz")
+    code, _, err = run_cli(
+        capsys, "mesh", str(path), "-l", "1", "--partitions", "2", "-o", str(tmp_path / "o.pvtu")
+    )
+    assert code != 0 and "in one process" in err

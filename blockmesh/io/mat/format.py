@@ -339,7 +339,8 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
     if "Node" not in data or (fast is None and "Element" not in data):
         raise ExportError(f"{where} has no Node and Element variables (PolyMesher layout)")
     polygons = "Kind" in data and _strings(data["Kind"]) == [POLYGONS]
-    offsets = nodes = cells = None
+    offsets = nodes = np.zeros(0, np.int64)
+    cells = np.zeros((0, 5), np.int64)
     if fast is None:
         offsets, nodes = _rows(data.pop("Element"), where)
         polygons = polygons or bool(np.any(np.diff(offsets) != 5))

@@ -375,7 +375,7 @@ def _polygon_arrays(f: _File, where: str) -> dict[str, Any]:
     patch_of_tag, patch_names = _groups(f, 1, meta.get("patch_names"))
     element = first if order is None else order[first]
     entity_of_cell = f.surface.entity(element)
-    columns = {name: values[element] for name, values in views.items()}
+    columns: dict[str, Any] = {name: values[element] for name, values in views.items()}
     return {
         "points": np.array(f.coords[:n_points]),
         "offsets": offsets,

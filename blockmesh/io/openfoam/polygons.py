@@ -69,7 +69,9 @@ def _faces(poly: Path, start: int, count: int) -> tuple[np.ndarray, np.ndarray]:
             break
         values = np.array(match.group(2).split(), dtype=np.int64)
         if values.size != int(match.group(1)):
-            raise ExportError(f"{where}: face {k} lists {values.size} nodes, not {match.group(1)}")
+            raise ExportError(
+                f"{where}: face {k} lists {values.size} nodes, not {int(match.group(1))}"
+            )
         sizes.append(values.size)
         nodes.append(values)
     if len(sizes) != count:
@@ -120,7 +122,9 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
     used = np.zeros(n_points, dtype=bool)
     used[cell_nodes] = True
     new_id = np.cumsum(used) - 1
-    edges, patch, names = [], [], []
+    edges: list[np.ndarray] = []
+    patch: list[np.ndarray] = []
+    names: list[str] = []
     for p in patches:
         if p.get("type") == "empty":
             continue

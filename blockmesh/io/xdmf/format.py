@@ -464,7 +464,7 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
         )
         mixed = top_el.get("TopologyType", top_el.get("Type", "")).lower() == "mixed"
         n_elements = int(top_el.get("NumberOfElements", "-1"))
-        topology = item(top_el, "the topology") if mixed else None
+        topology = item(top_el, "the topology") if mixed else np.empty(0, np.int64)
         pentagons = None
         if mixed and not is_polygon_file(meta):
             pentagons = _pentagons(topology, n_elements, where)
