@@ -39,7 +39,7 @@ from blockmesh.io import SPLITS, check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
-from blockmesh.refinement.local import predict_local_size, refine_locally
+from blockmesh.refinement.local import SCHEMES, predict_local_size, refine_locally
 from blockmesh.refinement.marking import (
     Marking,
     any_of,
@@ -140,6 +140,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default=[],
         metavar="PATCH:DISTANCE",
         help="split the cells within DISTANCE of boundary patch PATCH (repeatable)",
+    )
+    local.add_argument(
+        "--refine-scheme",
+        choices=tuple(SCHEMES),
+        default="pentagons",
+        help="how a marked cell is split: the paper's six pentagons (default; other polygons "
+        "into corner pentagons and a central polygon), or quadrilaterals through its centre",
     )
     local.add_argument(
         "--refine-rounds",
@@ -342,12 +349,18 @@ def _refine_marked(
 
     counting.__doc__ = marking.__doc__
     refined = refine_locally(
-        mesh, counting, rounds, max_memory=options["max_memory"], progress=tick
+        mesh,
+        counting,
+        rounds,
+        max_memory=options["max_memory"],
+        progress=tick,
+        scheme=options["refine_scheme"],
     )
     return refined, {
         "rounds": len(marked) if marked[-1] else len(marked) - 1,
         "marked": [m for m in marked if m],
         "marking": marking.__doc__,
+        "scheme": options["refine_scheme"],
         "hanging_nodes": int(refined.hanging_nodes().size),
         "max_vertices": int(refined.cell_sizes().max()),
     }
@@ -393,6 +406,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     return {
         "marking": marking,
         "refine_rounds": args.refine_rounds,
+        "refine_scheme": args.refine_scheme,
         "level": args.level,
         "numbering": args.numbering,
         "smooth": args.smooth,

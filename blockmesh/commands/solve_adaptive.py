@@ -26,6 +26,7 @@ from blockmesh.errors import BlockMeshError
 from blockmesh.io import check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.refinement.local import SCHEMES
 from blockmesh.vem.adaptive import DEFAULT_MAX_STEPS, AdaptiveStep, solve_adaptive
 from blockmesh.vem.output import write_solution
 
@@ -56,6 +57,13 @@ def add_adaptive_arguments(parser: argparse.ArgumentParser) -> None:
         default=0.5,
         metavar="THETA",
         help="Doerfler's bulk fraction in (0, 1] (default 0.5)",
+    )
+    group.add_argument(
+        "--scheme",
+        choices=tuple(SCHEMES),
+        default="pentagons",
+        help="how marked cells are split: the paper's six pentagons (default) or "
+        "quadrilaterals through the centre",
     )
     group.add_argument(
         "--max-steps",
@@ -89,8 +97,9 @@ def check_adaptive(args: argparse.Namespace) -> None:
         if value is not None
     ]
     if not args.adapt:
-        if given or args.theta != 0.5 or args.max_steps != DEFAULT_MAX_STEPS:
-            flag = given[0] if given else "--theta/--max-steps"
+        changed = args.theta != 0.5 or args.max_steps != DEFAULT_MAX_STEPS
+        if given or changed or args.scheme != "pentagons":
+            flag = given[0] if given else "--theta/--max-steps/--scheme"
             raise BlockMeshError(f"{flag} belongs to adaptive solving: add --adapt")
         return
     if args.tol is not None and not args.tol > 0:
@@ -162,6 +171,7 @@ def run_adaptive(
         theta=args.theta,
         exact=exact,
         progress=progress,
+        scheme=args.scheme,
     )
     last = run.history[-1]
     report: dict[str, Any] = {
@@ -169,6 +179,7 @@ def run_adaptive(
         "equation": args.equation,
         "adaptive": True,
         "theta": args.theta,
+        "scheme": args.scheme,
         "start_level": mesh.level,
         "stopped": run.stopped,
         "steps": len(run.history),

@@ -60,7 +60,9 @@ from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
 
 __all__ = [
     "HANGING_PER_SIDE",
+    "SCHEMES",
     "LocalSize",
+    "check_scheme",
     "close_marking",
     "marked_cells",
     "predict_local_size",
@@ -76,6 +78,22 @@ _NO_CURVES = CurvedEdges(
     stop=np.empty(0),
     curves=(),
 )
+
+#: How a marked cell of k corners is split, by name (``scheme=``).
+SCHEMES = {
+    "pentagons": "the paper's rule: k corner pentagons <v_i, u_i, w_i, w_i-1, u_i-1> and the "
+    "central k-gon <w_1 .. w_k> (six pentagons for a pentagon)",
+    "quads": "k quadrilaterals <v_i, u_i, p, u_i-1> through the centre p (a quadtree on squares)",
+}
+
+
+def check_scheme(scheme: object) -> str:
+    """``scheme`` if it is one of :data:`SCHEMES` (ArgumentError listing them otherwise)."""
+    if scheme not in SCHEMES:
+        listed = "; ".join(f"{k}: {v}" for k, v in SCHEMES.items())
+        raise ArgumentError(f"unknown scheme {scheme!r}; choose one of {listed}")
+    return str(scheme)
+
 
 #: Hanging nodes a side of a cell may carry after local refinement.
 HANGING_PER_SIDE = 1
@@ -221,22 +239,31 @@ def close_marking(mesh: PolygonMesh, marked: np.ndarray) -> np.ndarray:
         marked[grow] = True
 
 
-def predict_local_size(mesh: PolygonMesh, marked: np.ndarray) -> LocalSize:
+def predict_local_size(
+    mesh: PolygonMesh, marked: np.ndarray, scheme: str = "pentagons"
+) -> LocalSize:
     """Cells, nodes and memory of :func:`refine_marked` for a closed marking.
 
-    Closed forms: ``cells = M + Σ k_c`` and ``nodes = N + Σ k_c + E_split`` over the marked
-    cells c with ``k_c`` corners, ``E_split`` the distinct edges that are a whole side of a
-    marked cell (each gets one new node).
+    Closed forms, over the marked cells c with ``k_c`` corners and ``E_split`` the distinct
+    edges that are a whole side of a marked cell (each gets one new node): ``"pentagons"``
+    makes ``cells = M + Σ k_c`` and ``nodes = N + Σ k_c + E_split``; ``"quads"`` makes
+    ``cells = M + Σ (k_c - 1)`` and ``nodes = N + (marked cells) + E_split``.
     """
+    check_scheme(scheme)
     sides = _sides(mesh)
     corners = np.diff(sides.cell_first)
-    added_inner = int(corners[marked].sum())
+    n_marked = int(np.count_nonzero(marked))
+    added = int(corners[marked].sum())
     split = _split_keys(mesh, sides, marked)
-    cells = mesh.n_cells + added_inner
-    nodes = mesh.n_points + added_inner + int(split.size)
-    slots = int(mesh.nodes.size) + 6 * added_inner
+    if scheme == "quads":
+        cells = mesh.n_cells + added - n_marked
+        nodes = mesh.n_points + n_marked + int(split.size)
+    else:
+        cells = mesh.n_cells + added
+        nodes = mesh.n_points + added + int(split.size)
+    slots = int(mesh.nodes.size) + 6 * added
     peak = _BYTES_PER_CELL * cells + _BYTES_PER_NODE * nodes + 8 * 6 * slots
-    return LocalSize(int(marked.sum()), cells, nodes, peak)
+    return LocalSize(n_marked, cells, nodes, peak)
 
 
 def _split_keys(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> np.ndarray:
@@ -253,6 +280,7 @@ def refine_marked(
     cells: Marking,
     *,
     max_memory: int | None = None,
+    scheme: str = "pentagons",
 ) -> PolygonMesh:
     """Split the marked cells once (and the neighbours the hanging-node bound needs).
 
@@ -263,6 +291,8 @@ def refine_marked(
         The cells to split (see :func:`marked_cells`).
     max_memory : int, optional
         Refuse a refinement predicted to need more bytes (default: the memory available now).
+    scheme : {"pentagons", "quads"}
+        How a marked cell is split (:data:`SCHEMES`); ``"pentagons"``, the paper's, by default.
 
     Returns
     -------
@@ -280,13 +310,14 @@ def refine_marked(
     ResourceError
         When the predicted size does not fit the memory.
     """
+    scheme = check_scheme(scheme)
     pm = as_polygon_mesh(mesh)
     marked = close_marking(pm, marked_cells(pm, cells))
     sides = _sides(pm)
     _check_sides(pm, sides, marked)
-    size = predict_local_size(pm, marked)
+    size = predict_local_size(pm, marked, scheme)
     _check_memory(pm, size, max_memory)
-    return _split(pm, sides, marked)
+    return _split(pm, sides, marked, scheme)
 
 
 def refine_locally(
@@ -296,6 +327,7 @@ def refine_locally(
     *,
     max_memory: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    scheme: str = "pentagons",
 ) -> PolygonMesh:
     """Split the marked cells ``rounds`` times.
 
@@ -324,7 +356,7 @@ def refine_locally(
             if not chosen.any():
                 break
         previous_level = current.cell_level
-        current = refine_marked(current, chosen, max_memory=max_memory)
+        current = refine_marked(current, chosen, max_memory=max_memory, scheme=scheme)
         if progress is not None:
             progress(done + 1, rounds)
     return current
@@ -372,8 +404,11 @@ def _corner_sums(values: np.ndarray, counts: np.ndarray) -> np.ndarray:
     return out
 
 
-def _split(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> PolygonMesh:
-    """The refined mesh of a closed, checked marking."""
+def _split(
+    mesh: PolygonMesh, sides: _Sides, marked: np.ndarray, scheme: str = "pentagons"
+) -> PolygonMesh:
+    """The refined mesh of a closed, checked marking, by ``scheme`` (see :data:`SCHEMES`)."""
+    quads = scheme == "quads"
     n = mesh.n_points
     cells = mesh.polygon_cells()
     following = cells.following()
@@ -412,14 +447,18 @@ def _split(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> PolygonMesh:
     owner_of_key = rank[split_rows[first_request]]
     order_of_key = within[split_rows[first_request]]
     # request order: (marked cell, 0 = midpoint / 1 = inner point, side)
-    req_cell = np.concatenate([owner_of_key, rank])
-    req_kind = np.concatenate([np.zeros(keys_sorted.size, np.int64), np.ones(rows.size, np.int64)])
-    req_side = np.concatenate([order_of_key, within])
+    inner_cell = np.arange(marked_ids.size) if quads else rank  # quads: one centre per cell
+    inner_side = np.zeros(marked_ids.size, np.int64) if quads else within
+    req_cell = np.concatenate([owner_of_key, inner_cell])
+    req_kind = np.concatenate(
+        [np.zeros(keys_sorted.size, np.int64), np.ones(inner_cell.size, np.int64)]
+    )
+    req_side = np.concatenate([order_of_key, inner_side])
     request_order = np.lexsort((req_side, req_kind, req_cell))
     new_id = np.empty(request_order.size, dtype=np.int64)
     new_id[request_order] = n + np.arange(request_order.size)
     mid_id_of_key = new_id[: keys_sorted.size]
-    inner_id = new_id[keys_sorted.size :]  # per side row: w_i
+    inner_id = new_id[keys_sorted.size :]  # per side row: w_i (per marked cell: p for quads)
 
     # u_i per side row: the existing hanging node, or the new midpoint of the side's edge.
     u_id = hanging.copy()
@@ -454,20 +493,27 @@ def _split(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> PolygonMesh:
         cell_curved = np.bincount(rank, curved_any, minlength=marked_ids.size) > 0
         if np.any(cell_curved):
             p[cell_curved] = _curved_centres(u_xy, v_xy, k, cell_curved)
-    w_xy = u_xy + p[rank]
-    w_xy *= 0.5
-    points[inner_id] = w_xy
+    if quads:
+        points[inner_id] = p
+    else:
+        w_xy = u_xy + p[rank]
+        w_xy *= 0.5
+        points[inner_id] = w_xy
 
     # Children as base cells: per marked cell k corner pentagons then the central k-gon.
     prev_row = np.arange(rows.size) - 1
     starts_r = np.cumsum(k) - k
     prev_row[starts_r] = starts_r + k - 1  # wrap within each cell
-    corner_children = np.stack(
-        [corner, u_id, inner_id, inner_id[prev_row], u_id[prev_row]], axis=1
-    )  # (R, 5)
+    if quads:  # <v_i, u_i, p, u_i-1>
+        corner_children = np.stack([corner, u_id, inner_id[rank], u_id[prev_row]], axis=1)
+    else:  # <v_i, u_i, w_i, w_i-1, u_i-1>
+        corner_children = np.stack(
+            [corner, u_id, inner_id, inner_id[prev_row], u_id[prev_row]], axis=1
+        )
+    child_size = corner_children.shape[1]
     # Output cell order: every old cell in place; a marked one replaced by its children.
     per_old = np.ones(mesh.n_cells, dtype=np.int64)
-    per_old[marked_ids] = k + 1
+    per_old[marked_ids] = k if quads else k + 1
     out_start = np.concatenate([[0], np.cumsum(per_old)])
     n_out = int(out_start[-1])
     base_size = np.empty(n_out, dtype=np.int64)
@@ -475,9 +521,10 @@ def _split(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> PolygonMesh:
     kept = np.flatnonzero(~marked)
     base_size[out_start[kept]] = sizes[kept]
     child_slot = out_start[marked_ids][rank] + within  # output cell of each corner child
-    base_size[child_slot] = 5
+    base_size[child_slot] = child_size
     centre_cell = out_start[marked_ids] + k
-    base_size[centre_cell] = k
+    if not quads:
+        base_size[centre_cell] = k
     base_offsets = np.concatenate([[0], np.cumsum(base_size)])
     base_nodes = np.empty(int(base_offsets[-1]), dtype=np.int64)
     # kept cells' nodes
@@ -485,10 +532,10 @@ def _split(mesh: PolygonMesh, sides: _Sides, marked: np.ndarray) -> PolygonMesh:
     kept_out = _cell_slots(base_offsets, out_start[kept])
     base_nodes[kept_out] = mesh.nodes[kept_slots]
     # corner children
-    base_nodes[base_offsets[child_slot][:, None] + np.arange(5)] = corner_children
-    # central children
-    centre_out = _cell_slots(base_offsets, centre_cell)
-    base_nodes[centre_out] = inner_id
+    base_nodes[base_offsets[child_slot][:, None] + np.arange(child_size)] = corner_children
+    if not quads:  # central children
+        centre_out = _cell_slots(base_offsets, centre_cell)
+        base_nodes[centre_out] = inner_id
 
     # Every edge of a split key gets its midpoint inserted, in every cell that has it.
     base = PolygonCells(base_offsets, base_nodes)

@@ -76,6 +76,7 @@ def refine(
     level: int,
     *,
     cells: None = None,
+    scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
     max_memory: int | None = None,
@@ -90,6 +91,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any,
+    scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
     max_memory: int | None = None,
@@ -104,6 +106,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any = None,
+    scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
     max_memory: int | None = None,
@@ -117,6 +120,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any = None,
+    scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
     max_memory: int | None = None,
@@ -143,6 +147,10 @@ def refine(
         The cells to split: a mask over the cells, their ids, or ``cells(mesh)`` returning
         either (asked again on every round's mesh; ids and masks mark the children of the
         marked cells in later rounds). A marking of no cell is an error.
+    scheme : {"pentagons", "quads"}
+        With ``cells``: how a marked cell is split (:data:`blockmesh.refinement.local.SCHEMES`):
+        the paper's six pentagons (its general-polygon form for other cells), or
+        quadrilaterals through the centre.
     numbering : {"nested", "rcm"}
         ``"nested"`` (default) is the paper's numbering: every node id of the previous level is
         kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
@@ -178,7 +186,12 @@ def refine(
     """
     if cells is not None or isinstance(domain_or_mesh, PolygonMesh):
         return _refine_locally(
-            domain_or_mesh, level, cells, numbering, smooth, max_memory, progress, threads
+            domain_or_mesh, level, cells, numbering, smooth, max_memory, progress, threads, scheme
+        )
+    if scheme != "pentagons":
+        raise ArgumentError(
+            f"scheme={scheme!r} applies to local refinement (cells=); uniform refinement is the "
+            "paper's"
         )
     if level is None:
         raise ArgumentError("refine() needs a level (how many times to split every cell)")
@@ -216,6 +229,7 @@ def _refine_locally(
     max_memory: int | None,
     progress: ProgressCallback | None,
     threads: int | None,
+    scheme: str = "pentagons",
 ) -> PolygonMesh:
     """:func:`refine` with ``cells=``, or of a PolygonMesh: the local rule, round by round."""
     rounds = 1 if level is None and cells is not None else level
@@ -235,7 +249,9 @@ def _refine_locally(
     if rounds == 0:
         return as_polygon_mesh(mesh)
     marking = cells if cells is not None else np.ones(mesh.n_cells, dtype=bool)
-    return refine_locally(mesh, marking, rounds, max_memory=max_memory, progress=progress)
+    return refine_locally(
+        mesh, marking, rounds, max_memory=max_memory, progress=progress, scheme=scheme
+    )
 
 
 def _build(

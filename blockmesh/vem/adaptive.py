@@ -44,7 +44,12 @@ from blockmesh.checks import whole_number
 from blockmesh.errors import ArgumentError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
-from blockmesh.refinement.local import close_marking, predict_local_size, refine_marked
+from blockmesh.refinement.local import (
+    check_scheme,
+    close_marking,
+    predict_local_size,
+    refine_marked,
+)
 from blockmesh.vem.elasticity import ElasticitySolution
 from blockmesh.vem.estimate import ErrorEstimate, estimate_error
 from blockmesh.vem.poisson import PoissonSolution
@@ -191,6 +196,7 @@ def solve_adaptive(
     gradient: Any = None,
     progress: Callable[[AdaptiveStep], None] | None = None,
     max_memory: int | None = None,
+    scheme: str = "pentagons",
 ) -> AdaptiveResult:
     """Solve, estimate, mark and refine until the estimator or the unknowns say stop.
 
@@ -218,6 +224,8 @@ def solve_adaptive(
         Called with every step's :class:`AdaptiveStep` as soon as it is done.
     max_memory : int, optional
         The memory bound of each refinement (default: the memory available).
+    scheme : {"pentagons", "quads"}
+        How marked cells are split (:data:`blockmesh.refinement.local.SCHEMES`).
 
     Raises
     ------
@@ -225,6 +233,7 @@ def solve_adaptive(
         For a bad ``theta``, ``tol``, ``max_unknowns`` or ``max_steps``.
     """
     theta = _check_theta(theta)
+    scheme = check_scheme(scheme)
     if tol is not None and (isinstance(tol, bool) or not float(tol) > 0):
         raise ArgumentError(f"tol must be a number > 0, got {tol!r}")
     if max_unknowns is not None:
@@ -249,7 +258,7 @@ def solve_adaptive(
         if stop is None:
             marked = close_marking(current, dorfler_marking(estimate.indicators, theta))
             if max_unknowns is not None:
-                size = predict_local_size(current, marked)
+                size = predict_local_size(current, marked, scheme)
                 fixed = components * current.n_points - solution.info.dof
                 if components * size.nodes - fixed > max_unknowns:
                     stop = "max_unknowns"
@@ -267,7 +276,7 @@ def solve_adaptive(
             **_errors(errors, eta),
         )
         if stop is None:
-            current = refine_marked(current, marked, max_memory=max_memory)
+            current = refine_marked(current, marked, max_memory=max_memory, scheme=scheme)
         record = _with_seconds(record, time.perf_counter() - started)
         history.append(record)
         if progress is not None:

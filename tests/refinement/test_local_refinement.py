@@ -88,8 +88,11 @@ def _check_mesh(mesh: PolygonMesh, base: blockmesh.Mesh, curved: bool) -> None:
         assert mesh.patch_names == base.patch_names
 
 
-def _expected_counts(mesh: PolygonMesh, marked: np.ndarray) -> tuple[int, int]:
-    """Closed forms: M + Σ k_c cells, N + Σ k_c + (distinct split edges) nodes."""
+def _expected_counts(
+    mesh: PolygonMesh, marked: np.ndarray, scheme: str = "pentagons"
+) -> tuple[int, int]:
+    """Closed forms: M + Σ k_c cells, N + Σ k_c + (distinct split edges) nodes (pentagons);
+    M + Σ (k_c - 1) cells, N + (marked) + (distinct split edges) nodes (quads)."""
     corners = mesh.corner_counts()
     side, length = mesh.sides()
     corner_slot = np.flatnonzero(~mesh.straight_vertices())
@@ -99,6 +102,9 @@ def _expected_counts(mesh: PolygonMesh, marked: np.ndarray) -> tuple[int, int]:
     following = mesh.polygon_cells().following()
     keys = np.unique(edge_keys(mesh.nodes[slots], following[slots], mesh.n_points))
     added = int(corners[marked].sum())
+    if scheme == "quads":
+        count = int(marked.sum())
+        return mesh.n_cells + added - count, mesh.n_points + count + keys.size
     return mesh.n_cells + added, mesh.n_points + added + keys.size
 
 
@@ -137,9 +143,9 @@ def _random_mask(mesh: PolygonMesh, seed: int, fraction: float) -> np.ndarray:
     return mask
 
 
-@given(markings(DOMAINS))
+@given(markings(DOMAINS), st.sampled_from(["pentagons", "pentagons", "quads"]))
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-def test_random_markings_several_rounds_deep(case):
+def test_random_markings_several_rounds_deep(case, scheme):
     name, level, rounds = case
     base = blockmesh.load_domain(name).mesh(level)
     mesh = PolygonMesh.from_mesh(base)
@@ -147,10 +153,10 @@ def test_random_markings_several_rounds_deep(case):
         wanted = _random_mask(mesh, seed, fraction)
         closed = close_marking(mesh, wanted)
         assert np.all(closed[wanted])
-        cells, nodes = _expected_counts(mesh, closed)
-        predicted = predict_local_size(mesh, closed)
+        cells, nodes = _expected_counts(mesh, closed, scheme)
+        predicted = predict_local_size(mesh, closed, scheme)
         assert (predicted.cells, predicted.nodes) == (cells, nodes)
-        fine = refine_marked(mesh, wanted)
+        fine = refine_marked(mesh, wanted, scheme=scheme)
         assert (fine.n_cells, fine.n_points) == (cells, nodes)
         assert fine.level == mesh.level + 1
         children = fine.cell_level > mesh.cell_level[fine.parent]
@@ -282,3 +288,14 @@ def test_refine_of_a_polygon_mesh_and_rounds():
     assert again.n_cells == fine.n_cells + int(fine.corner_counts().sum())
     _check_mesh(again, mesh, curved=False)
     assert PolygonCells(again.offsets, again.nodes).n_cells == again.n_cells
+
+
+def test_the_quad_scheme_is_a_quadtree_on_squares():
+    square = PolygonMesh.from_cells([(0, 0), (1, 0), (1, 1), (0, 1)], [[0, 1, 2, 3]])
+    fine = refine_locally(square, [0], rounds=3, scheme="quads")
+    assert fine.n_cells == 64 and set(fine.cell_sizes().tolist()) == {4}
+    np.testing.assert_allclose(fine.cell_areas(), 1 / 64)
+    once = refine_marked(fine, [0], scheme="quads")  # its neighbours get hanging nodes
+    assert once.hanging_nodes().size == 2 and int(once.side_lengths().max()) == 2
+    with pytest.raises(ArgumentError, match="unknown scheme"):
+        refine_marked(square, [0], scheme="hexagons")
