@@ -183,17 +183,14 @@ def _corners(
     return ring[keep].reshape(-1, 5)
 
 
-def _from_outlines(
-    conn: np.ndarray,
-    pentagon: np.ndarray,
-    points: np.ndarray,
-    is_node: np.ndarray | None,
-    where: str,
+def _rings(
+    conn: np.ndarray, owner_ids: np.ndarray, n_nodes: int, where: str, what: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    ids, elem_p = np.unique(pentagon, return_inverse=True)
+    """Each owner's outline from its first element's first node, and that first element."""
+    ids, elem_p = np.unique(owner_ids, return_inverse=True)
     if ids.size and (ids[0] < 0 or ids[-1] != ids.size - 1):
         raise ExportError(
-            f"{where}: the pentagon ids of the elements are not 0..{ids.size - 1} (found "
+            f"{where}: the {what} ids of the elements are not 0..{ids.size - 1} (found "
             f"{ids[0]}..{ids[-1]})"
         )
     k = conn.shape[1]
@@ -202,7 +199,17 @@ def _from_outlines(
     owner = np.repeat(elem_p, k)
     first = np.lexsort((np.arange(conn.shape[0]), elem_p))
     first = first[np.r_[True, elem_p[first][1:] != elem_p[first][:-1]]]
-    ring = _outlines(edges, owner, conn[first, 0], points.shape[0], where)
+    return _outlines(edges, owner, conn[first, 0], n_nodes, where), first
+
+
+def _from_outlines(
+    conn: np.ndarray,
+    pentagon: np.ndarray,
+    points: np.ndarray,
+    is_node: np.ndarray | None,
+    where: str,
+) -> tuple[np.ndarray, np.ndarray]:
+    ring, first = _rings(conn, pentagon, points.shape[0], where, "pentagon")
     return _corners(ring, points, is_node, where), first
 
 
@@ -271,19 +278,7 @@ def merge_polygons(
     from its first element's first node, counter-clockwise, with every one of the mesh's nodes
     on its outline (hanging nodes included). O(K log K).
     """
-    ids, elem_p = np.unique(np.reshape(cell, -1), return_inverse=True)
-    if ids.size and (ids[0] < 0 or ids[-1] != ids.size - 1):
-        raise ExportError(
-            f"{where}: the cell ids of the elements are not 0..{ids.size - 1} (found "
-            f"{ids[0]}..{ids[-1]})"
-        )
-    k = conn.shape[1]
-    conn = conn.astype(np.int64, copy=False)
-    edges = np.stack([conn, np.roll(conn, -1, axis=1)], axis=2).reshape(-1, 2)
-    owner = np.repeat(elem_p, k)
-    first = np.lexsort((np.arange(conn.shape[0]), elem_p))
-    first = first[np.r_[True, elem_p[first][1:] != elem_p[first][:-1]]]
-    ring = _outlines(edges, owner, conn[first, 0], points.shape[0], where)
+    ring, first = _rings(conn, np.reshape(cell, -1), points.shape[0], where, "cell")
     valid = ring >= 0
     keep = valid & (np.where(valid, ring, corner_nodes) < corner_nodes)
     counts = keep.sum(axis=1)

@@ -309,15 +309,7 @@ def _polygon_estimate(
     how = f"twice the difference to order {check}, cell by cell"
     message = f"error estimate {estimate:.3g} {how}"
     if not converged:
-        where = ""
-        if worst is not None:
-            x, y = mesh.points[mesh.cell(worst)].mean(axis=0)
-            where = f"; it is largest in cell {worst} (around ({x:.6g}, {y:.6g}))"
-        message = (
-            f"the integral is not resolved: the error estimate {estimate:.3g} ({how}) is above "
-            f"warn_rtol={warn_level:g} times the sum of the cells' |integral| ({scale:.3g})"
-            f"{where}. The integrand may be singular or divergent there, or need a higher order"
-        )
+        message = _not_resolved(mesh, worst, value, estimate, scale, warn_level, how)
         warnings.warn(BlockMeshWarning(message), stacklevel=stacklevel)
     return IntegrationResult(
         value,
@@ -407,7 +399,7 @@ def _flag(exact_geometry: object) -> bool:
 
 
 def _not_resolved(
-    mesh: Mesh,
+    mesh: Mesh | PolygonMesh,
     worst: int | None,
     value: float,
     estimate: float,
@@ -417,7 +409,8 @@ def _not_resolved(
 ) -> str:
     where = ""
     if worst is not None:
-        x, y = mesh.points[mesh.cells[worst]].mean(axis=0)
+        corners = mesh.cell(worst) if isinstance(mesh, PolygonMesh) else mesh.cells[worst]
+        x, y = mesh.points[corners].mean(axis=0)
         where = f"; it is largest in cell {worst} (around ({x:.6g}, {y:.6g}))"
     larger = f", and larger than the value {value:.6g} itself" if estimate > abs(value) else ""
     return (

@@ -169,6 +169,21 @@ def _hdf5_errors() -> Iterator[None]:
         raise OSError(code, os.strerror(code)) from error
 
 
+def _dataset_options(compression: str) -> dict[str, Any]:
+    """h5py's dataset options for ``compression`` (gzip level 4, shuffled, for ``"zlib"``)."""
+    if compression == "zlib":
+        return {"compression": "gzip", "compression_opts": 4, "shuffle": True}
+    return {}
+
+
+def _write_light(path: Path, tree: ET.ElementTree) -> None:
+    """The light XML file: declaration, doctype and the tree."""
+    with open(path, "wb") as f:
+        f.write(b'<?xml version="1.0" encoding="utf-8"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n')
+        tree.write(f, encoding="utf-8", xml_declaration=False)
+        f.write(b"\n")
+
+
 def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none") -> Path:
     """Write ``mesh`` to ``path`` (``.xdmf``) and its ``.h5``; returns the ``.xdmf`` path.
 
@@ -184,11 +199,7 @@ def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none
     if isinstance(mesh, PolygonMesh):
         return _write_polygons(mesh, path, compression)
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
-    options: dict[str, Any] = (
-        {"compression": "gzip", "compression_opts": 4, "shuffle": True}
-        if compression == "zlib"
-        else {}
-    )
+    options = _dataset_options(compression)
     write_id = secrets.token_hex(8)
     with atomic_with_data(path, ".h5", owned=_owned(path.name)) as (tmp_xdmf, tmp_h5, h5):
         meta = encode_metadata(mesh, light=path.name, data=h5.name, write_id=write_id, n_cells=m)
@@ -211,12 +222,7 @@ def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none
                 "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
             )
         tree = _xdmf_tree(mesh, h5.name, meta)
-        with open(tmp_xdmf, "wb") as f:
-            f.write(
-                b'<?xml version="1.0" encoding="utf-8"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
-            )
-            tree.write(f, encoding="utf-8", xml_declaration=False)
-            f.write(b"\n")
+        _write_light(tmp_xdmf, tree)
     return path
 
 
@@ -242,11 +248,7 @@ def _write_polygons(mesh: PolygonMesh, path: Path, compression: str) -> Path:
     import h5py
 
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
-    options: dict[str, Any] = (
-        {"compression": "gzip", "compression_opts": 4, "shuffle": True}
-        if compression == "zlib"
-        else {}
-    )
+    options = _dataset_options(compression)
     write_id = secrets.token_hex(8)
     top = _polygon_topology(mesh)
     with atomic_with_data(path, ".h5", owned=_owned(path.name)) as (tmp_xdmf, tmp_h5, h5):
@@ -265,12 +267,7 @@ def _write_polygons(mesh: PolygonMesh, path: Path, compression: str) -> Path:
                 "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
             )
         tree = _xdmf_tree(mesh, h5.name, meta, topology_size=top.size)
-        with open(tmp_xdmf, "wb") as f:
-            f.write(
-                b'<?xml version="1.0" encoding="utf-8"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
-            )
-            tree.write(f, encoding="utf-8", xml_declaration=False)
-            f.write(b"\n")
+        _write_light(tmp_xdmf, tree)
     return path
 
 
