@@ -13,6 +13,7 @@ from blockmesh.domain.blockgraph import certificate
 from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError
+from blockmesh.geometry.topology import graph_components
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
@@ -72,8 +73,6 @@ def run(args: argparse.Namespace) -> int:
 
 def polygon_report(mesh: PolygonMesh) -> dict:
     """What ``blockmesh check`` establishes about a polygon mesh (JSON-ready)."""
-    from blockmesh.geometry.topology import graph_components
-
     sizes = mesh.cell_sizes()
     quality = mesh.quality()
     edges = mesh.edges()

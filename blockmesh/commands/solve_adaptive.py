@@ -28,6 +28,7 @@ from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.local import SCHEMES
 from blockmesh.vem.adaptive import DEFAULT_MAX_STEPS, AdaptiveStep, solve_adaptive
+from blockmesh.vem.fields import split_pair
 from blockmesh.vem.output import write_solution
 
 __all__ = ["add_adaptive_arguments", "check_adaptive", "run_adaptive"]
@@ -146,8 +147,6 @@ def run_adaptive(
     started = time.perf_counter()
     exact: Any = args.exact
     if exact is not None and args.equation == "elasticity":
-        from blockmesh.vem.fields import split_pair
-
         exact = split_pair(exact, "exact displacement")
     if not args.json:
         print(

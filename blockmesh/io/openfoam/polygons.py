@@ -33,9 +33,20 @@ import numpy as np
 
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells
-from blockmesh.io.openfoam.reader import _read_zones, foam_file, read_boundary, read_list
+from blockmesh.io.openfoam.reader import (
+    FaceSizeError,
+    _find_polymesh,
+    _read_zones,
+    foam_file,
+    read_boundary,
+    read_list,
+)
+from blockmesh.io.openfoam.reader import read_openfoam as read_pentagon_case
+from blockmesh.io.polygons import polygon_mesh_from_arrays
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
-__all__ = ["read_polygon_case"]
+__all__ = ["read_openfoam", "read_polygon_case"]
 
 _FACE = re.compile(rb"(\d+)\s*\(([^()]*)\)")
 
@@ -157,3 +168,17 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
         "patch_names": names,
         "name": case.name,
     }
+
+
+def read_openfoam(path: Path) -> Mesh | PolygonMesh:
+    """Read a one-layer OpenFOAM case: a Mesh of pentagons, or a PolygonMesh of other polygons.
+
+    The pentagon reader (:func:`blockmesh.io.openfoam.reader.read_openfoam`) is tried first; when
+    the front and back faces are polygons of other sizes the case is read by
+    :func:`read_polygon_case`.
+    """
+    try:
+        return read_pentagon_case(path)
+    except FaceSizeError:
+        poly = _find_polymesh(Path(path).absolute())
+        return polygon_mesh_from_arrays(where=str(poly), **read_polygon_case(poly))

@@ -33,10 +33,8 @@ import numpy as np
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
 from blockmesh.io.common import mesh_from_arrays
-from blockmesh.io.polygons import polygon_mesh_from_arrays
 from blockmesh.io.text import TextReader, parse_numbers
 from blockmesh.mesh.mesh import Mesh
-from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "FaceSizeError",
@@ -318,23 +316,19 @@ def _find_polymesh(path: Path) -> Path:
     )
 
 
-def read_openfoam(path: Path) -> Mesh | PolygonMesh:
+def read_openfoam(path: Path) -> Mesh:
     """Read a one-layer extruded polyMesh (as :func:`write_openfoam` writes) back to pentagons.
 
-    When the front and back faces are polygons of other sizes (a PolygonMesh written), the case
-    is read as a PolygonMesh (:mod:`blockmesh.io.openfoam.polygons`).
+    Raises :class:`FaceSizeError` when the front and back faces are not all pentagons;
+    :func:`blockmesh.io.openfoam.polygons.read_openfoam` (what :func:`blockmesh.read` uses) then
+    reads the case as a PolygonMesh.
 
     ``path`` is the case, its ``constant`` directory or the ``polyMesh`` directory. ASCII files
     (optionally gzipped) only. O(F) in the number of faces; the internal faces are skipped.
     """
     path = Path(path).absolute()
     poly = _find_polymesh(path)
-    try:
-        arrays = _mesh_arrays(poly)  # the parsed files are freed before the Mesh is built
-    except FaceSizeError:
-        from blockmesh.io.openfoam.polygons import read_polygon_case
-
-        return polygon_mesh_from_arrays(where=str(poly), **read_polygon_case(poly))
+    arrays = _mesh_arrays(poly)  # the parsed files are freed before the Mesh is built
     return mesh_from_arrays(where=str(poly), **arrays)
 
 
