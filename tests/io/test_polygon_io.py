@@ -129,12 +129,25 @@ def test_vtk_reads_the_polygons(tmp_path: Path, polygons: PolygonMesh):
     assert sizes == sorted(polygons.cell_sizes().tolist() + [2] * eb)
 
 
-def test_paraview_reads_the_polygons(tmp_path: Path, polygons: PolygonMesh):
-    bio.write(polygons, tmp_path / "m.vtu")
+def test_vtk_reads_the_xdmf_mixed_topology(tmp_path: Path, polygons: PolygonMesh):
+    xdmf = pytest.importorskip("vtkmodules.vtkIOXdmf2", reason="the vtk package is absent")
+    x = xdmf.vtkXdmfReader()
+    x.SetFileName(str(bio.write(polygons, tmp_path / "m.xdmf")))
+    x.Update()
+    grid = x.GetOutputDataObject(0)
+    m = polygons.n_cells
+    assert grid.GetNumberOfCells() == m + polygons.boundary_edges.shape[0]
+    rows = [[grid.GetCell(k).GetPointId(j) for j in range(grid.GetCell(k).GetNumberOfPoints())]
+            for k in range(m)]  # fmt: skip
+    assert rows == polygons.cell_lists()
+
+
+@pytest.mark.parametrize("name", ["m.vtu", "./m.xdmf"])
+def test_paraview_reads_the_polygons(tmp_path: Path, polygons: PolygonMesh, name: str):
+    bio.write(polygons, tmp_path / name)
     script = (
-        "from paraview.simple import *\n"
-        "r = XMLUnstructuredGridReader(FileName=['m.vtu'])\n"
-        "r.UpdatePipeline()\n"
+        "from paraview.simple import OpenDataFile\n"
+        f"r = OpenDataFile({name!r}); r.UpdatePipeline()\n"
         "print('cells', r.GetDataInformation().GetNumberOfCells())\n"
     )
     run = run_pvpython(script, tmp_path)
