@@ -177,8 +177,8 @@ def vem_solver(problem: str) -> Callable[[PolygonMesh], object]:
         m,
         young=YOUNG,
         poisson=NU,
-        displacement={"left": (0, "free"), "down": ("free", 0)},
-        traction={"right": (sxx, sxy), "up": (sxy, syy)},
+        dirichlet={"left": (0, "free"), "down": ("free", 0)},
+        neumann={"right": (sxx, sxy), "up": (sxy, syy)},
     )
 
 

@@ -39,6 +39,12 @@ from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
 from blockmesh.refinement.local import refine_locally
+from blockmesh.refinement.placement import (
+    LaplacianSmoothing,
+    PaperPlacement,
+    Placement,
+    as_placement,
+)
 from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
 from blockmesh.refinement.plan import place_level as _place_level
 from blockmesh.refinement.sizes import MeshSize, predict_size
@@ -79,6 +85,7 @@ def refine(
     scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
@@ -94,6 +101,7 @@ def refine(
     scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
@@ -109,6 +117,7 @@ def refine(
     scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
@@ -123,6 +132,7 @@ def refine(
     scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
@@ -156,7 +166,13 @@ def refine(
         kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
     smooth : int
         Laplacian sweeps per level (see :mod:`blockmesh.refinement.smoothing`); 0 keeps the paper's
-        exact scheme.
+        exact scheme. The same as ``placement=LaplacianSmoothing(smooth)``.
+    placement : str or Placement
+        Where the nodes of every new level go (:mod:`blockmesh.refinement.placement`):
+        ``"paper"`` (default, the paper's exact scheme), ``"optimized"``, ``"angles"``, or a
+        :class:`~blockmesh.refinement.placement.Placement`. Any but the paper's refines one level
+        at a time and places the nodes after each; cells, counts, patches and regions stay the
+        paper's.
     max_memory : int, optional
         Refuse to build a mesh needing more bytes than this (default: the memory available now).
     progress : callable, optional
@@ -185,6 +201,11 @@ def refine(
     (11, [5, 6])
     """
     if cells is not None or isinstance(domain_or_mesh, PolygonMesh):
+        if not (isinstance(placement, str) and placement == "paper"):
+            raise ArgumentError(
+                f"placement={placement!r} applies to uniform refinement; local refinement "
+                "(cells=, or a PolygonMesh) places the nodes by the paper's rule"
+            )
         return _refine_locally(
             domain_or_mesh, level, cells, numbering, smooth, max_memory, progress, threads, scheme
         )
@@ -198,6 +219,13 @@ def refine(
     level = whole_number(level, "level")
     choice(numbering, NUMBERINGS, "numbering")
     smooth = whole_number(smooth, "smooth")
+    placement = as_placement(placement)
+    if isinstance(placement, LaplacianSmoothing):
+        if smooth not in (0, placement.sweeps):
+            raise ArgumentError(
+                f"smooth={smooth} and placement={placement!r} ask for two smoothings; give one"
+            )
+        smooth, placement = placement.sweeps, PaperPlacement()
     if max_memory is not None:
         max_memory = whole_number(max_memory, "max_memory", minimum=1)
     if threads is not None:
@@ -208,7 +236,10 @@ def refine(
     _check_memory(base, n_shared, level, max_memory)
     _check_precision(base, level)
     try:
-        mesh = _build(base, neighbour, level, smooth, progress, threads)
+        if placement.nested:
+            mesh = _build(base, neighbour, level, smooth, progress, threads)
+        else:
+            mesh = _build_placed(base, level, smooth, placement, progress, threads)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -254,6 +285,19 @@ def _refine_locally(
     )
 
 
+def _build_placed(
+    base: Mesh, level: int, smooth: int, placement: Placement, progress, threads: int | None
+) -> Mesh:
+    """One level at a time, the nodes of each new level placed by ``placement``."""
+    mesh = base
+    for step in range(level):
+        neighbour = cell_neighbours(mesh.cells, mesh.n_points)
+        mesh = placement.after_level(_build(mesh, neighbour, 1, smooth, None, threads))
+        if progress is not None:
+            progress(step + 1, level)
+    return mesh
+
+
 def _build(
     base: Mesh,
     neighbour: np.ndarray,
@@ -288,16 +332,16 @@ def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, 
     """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     edge_ids = edge_id_table(plan)
-    ids = group_node_ids(plan, 0, base.n_cells, edge_ids)
     template = pentagon_template(level)
+    ids = group_node_ids(plan, 0, base.n_cells, edge_ids, template=template)
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
     local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
     points = np.empty(plan.n_nodes, dtype=np.complex128)
-    fixed = block_edge_nodes(ids, level)
+    fixed = block_edge_nodes(ids, template)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
         _place_level(local, template.steps[step - 1], lo)
-        level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
+        level_cells = ids[:, template.cells_of_level(step)].reshape(-1, 5)
         points[ids[:, :hi]] = local[:, :hi]
         n_level = int(ids[:, :hi].max()) + 1
         xy = points.view(np.float64).reshape(-1, 2)

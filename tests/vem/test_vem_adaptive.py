@@ -61,7 +61,7 @@ def test_elasticity_patch_test_with_hanging_nodes(seed):
     mesh = _hanging_mesh("square-cut", seed)
     ux, uy = "0.1 + 0.2*x - 0.3*y", "-0.2 + 0.05*x + 0.4*y"
     sol = solve_elasticity(
-        mesh, young=2.0, poisson=0.3, displacement={p: (ux, uy) for p in mesh.patch_names}
+        mesh, young=2.0, poisson=0.3, dirichlet={p: (ux, uy) for p in mesh.patch_names}
     )
     x, y = mesh.points.T
     expected = np.column_stack([0.1 + 0.2 * x - 0.3 * y, -0.2 + 0.05 * x + 0.4 * y])
@@ -110,8 +110,8 @@ def test_adaptive_tolerance_and_elasticity():
             m,
             young=1.0,
             poisson=0.3,
-            displacement={"left": (0, "free"), "down": ("free", 0)},
-            traction={"right": (sxx, sxy), "up": (sxy, syy)},
+            dirichlet={"left": (0, "free"), "down": ("free", 0)},
+            neumann={"right": (sxx, sxy), "up": (sxy, syy)},
         )
 
     run = solve_adaptive(mesh, solve, tol=0.05, max_steps=12, exact=field.displacement)
