@@ -36,9 +36,11 @@ blockmesh's choice for locally refined meshes, 8-30x faster than ``MMD_AT_PLUS_A
 Unknowns are the solved system's (nodes off the Dirichlet boundary, times the components).
 Errors are compared at equal unknowns by interpolating each method's log-log curve.
 
-Run: ``python benchmarks/bench_adaptive.py [--quick] [--max-unknowns N]
-[--table docs/benchmarks/adaptive.md] [--plot docs/benchmarks/adaptive.png] [--json OUT]``.
-Needs scikit-fem and triangle (``pip install -e '.[test,bench]'``).
+Run: ``python benchmarks/bench_adaptive.py [--quick] [--max-unknowns N] [--json OUT]``: the
+page goes to ``docs/benchmarks/adaptive.md`` with its plot ``adaptive.png`` beside
+(``--page-dir DIR`` elsewhere, ``--no-page`` none); ``--from-json FILE`` renders the page of an
+earlier run's ``--json`` without measuring again. Needs scikit-fem and triangle
+(``pip install -e '.[test,bench]'``).
 """
 
 from __future__ import annotations
@@ -54,8 +56,10 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
+from _page import Page, add_arguments
 
 import blockmesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -488,9 +492,7 @@ def comparison_points(curves: list[Curve]) -> list[int]:
 
 def markdown(all_curves: dict[str, list[Curve]], max_unknowns: int) -> str:
     lines = [
-        "# Adaptive pentagons against uniform meshes and adaptive P1",
-        "",
-        "Written by `benchmarks/bench_adaptive.py` (do not edit by hand). Error at equal "
+        "Error at equal "
         "unknowns, interpolated on each method's log-log curve; θ = 0.5 for every adaptive "
         f"method; runs up to {max_unknowns:,} unknowns. H1 seminorm error for `lshape` and "
         "`peak`, energy error for `kirsch`; every error measured by blockmesh's norms on "
@@ -620,9 +622,8 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="up to 4,000 unknowns")
     parser.add_argument("--max-unknowns", type=int, default=40_000)
     parser.add_argument("--problems", default="lshape,peak,kirsch")
-    parser.add_argument("--table", help="write the Markdown table here")
-    parser.add_argument("--plot", help="write the convergence plot here")
     parser.add_argument("--json", help="write every step here")
+    add_arguments(parser)
     parser.add_argument(
         "--from-json", metavar="FILE", help="no runs: the table and plot of a --json file"
     )
@@ -641,15 +642,18 @@ def main() -> None:
     else:
         for problem in args.problems.split(","):
             all_curves[problem] = run_problem(problem, top, lambda s: print(s, flush=True))
-    text = markdown(all_curves, top) + "\n" + verdict(all_curves) + "\n"
-    if args.plot:
-        text += f"\n![error against unknowns]({os.path.basename(args.plot)})\n"
-    print(text)
-    if args.table:
-        with open(args.table, "w") as f:
-            f.write(text + "\n")
-    if args.plot:
-        plot(all_curves, args.plot)
+    page = Page("adaptive", "Adaptive pentagons against uniform meshes and adaptive P1")
+    if args.from_json:
+        page.text(
+            f"Rendered from `{args.from_json}`, the `--json` of a run of this script up to "
+            f"{top:,} unknowns (the runs' own times are in that file)."
+        )
+    page.text(markdown(all_curves, top))
+    page.text(verdict(all_curves))
+    if not args.no_page:
+        page.text("![error against unknowns](adaptive.png)")
+        plot(all_curves, str(Path(args.page_dir) / "adaptive.png"))
+    page.write(args)
     if args.json:
         runs: dict[str, object] = {
             p: [
