@@ -48,6 +48,7 @@ _EXPORTS = {
     "parse_polygon_string": "domain.loading",
     "Mesh": "mesh.mesh",
     "MeshQuality": "mesh.mesh",
+    "PolygonMesh": "mesh.polygons",
     "IntegrationResult": "quadrature",
     "integrate": "quadrature",
     "integrate_to_tolerance": "quadrature",
@@ -68,6 +69,7 @@ __all__ = [
     "IntegrationResult",
     "Mesh",
     "MeshQuality",
+    "PolygonMesh",
     "ResourceError",
     "SolverError",
     "TopologyError",
@@ -130,6 +132,7 @@ if _typing.TYPE_CHECKING:  # for type checkers and IDEs: the names as if importe
     )
     from blockmesh.io import read, write
     from blockmesh.mesh.mesh import Mesh, MeshQuality
+    from blockmesh.mesh.polygons import PolygonMesh
     from blockmesh.numerics.expr import parse_expression
     from blockmesh.quadrature import (
         IntegrationResult,

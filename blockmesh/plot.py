@@ -12,6 +12,7 @@ True
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -19,7 +20,9 @@ from blockmesh._system.atomic import atomic_file
 from blockmesh.checks import choice
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
+from blockmesh.geometry.topology import cell_neighbours
 from blockmesh.mesh.measures import cell_shapes
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.sizes import DRAW_LIMIT
 
 __all__ = [
@@ -241,7 +244,13 @@ def mesh_figure(mesh, *, labels: bool | None = None):
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 8))
-    xy = mesh.points[mesh.cells]
+    polygons = isinstance(mesh, PolygonMesh)
+    if polygons:
+        xy: Any = [mesh.points[c] for c in mesh.cell_lists()]
+        centres = mesh.vertex_means()
+    else:
+        xy = mesh.points[mesh.cells]
+        centres = xy.mean(axis=1)
     regions = np.unique(mesh.region)
     if regions.size > 1:
         palette = plt.get_cmap("Set3")
@@ -264,11 +273,16 @@ def mesh_figure(mesh, *, labels: bool | None = None):
         ]
         fig.legend(handles=handles, title="regions", loc="lower left", bbox_to_anchor=(0.91, 0.1))
     _draw_patches(ax, mesh.points, mesh.boundary_edges, mesh.boundary_patch, mesh.patch_names)
+    if polygons and mesh.n_cells <= 20000:
+        hanging = mesh.points[mesh.hanging_nodes()]
+        if hanging.size:
+            ax.plot(*hanging.T, "o", ms=2.0 if mesh.n_cells <= 2000 else 1.0, color="#c44e52",
+                    label="hanging nodes")  # fmt: skip
     if labels is None:
         labels = mesh.n_cells <= LABEL_LIMIT
     if labels:
         size = 8 if mesh.n_cells <= 40 else 5 if mesh.n_cells <= 250 else 3.5
-        for c, (x, y) in enumerate(xy.mean(axis=1)):
+        for c, (x, y) in enumerate(centres):
             ax.text(x, y, str(c), ha="center", va="center", fontsize=size, color="k")
         for v, (x, y) in enumerate(mesh.points):
             ax.text(x, y, str(v), ha="left", va="bottom", fontsize=size * 0.85, color="b")
@@ -291,6 +305,12 @@ def _block_interfaces(mesh) -> np.ndarray:
     scattered minima and maxima otherwise.
     """
     block_id = mesh.block_id
+    if isinstance(mesh, PolygonMesh):  # the edges whose two cells lie in different blocks
+        cells = mesh.polygon_cells()
+        across = cell_neighbours(cells, mesh.n_points)
+        owner = cells.slot_cell()
+        apart = (across >= 0) & (block_id[owner] != block_id[owner[np.maximum(across, 0)]])
+        return np.stack([mesh.nodes[apart], cells.following()[apart]], axis=1)
     ordered = bool(np.all(block_id[1:] >= block_id[:-1]))
     blocks = np.unique(
         block_id[np.r_[True, block_id[1:] != block_id[:-1]]] if ordered else block_id
@@ -325,6 +345,8 @@ def _block_interfaces(mesh) -> np.ndarray:
 
 def _largest_area(mesh) -> float:
     """The largest cell area: measured if the mesh has been, else from a sample of cells."""
+    if isinstance(mesh, PolygonMesh):
+        return float(mesh.cell_areas().max(initial=0.0))
     measured = mesh._cache.get("measures")
     if measured is not None:
         return float(measured.max_area)
@@ -343,10 +365,16 @@ def _density_picture(mesh, pixel: float, shape: np.ndarray) -> np.ndarray:
     z_points = mesh.points.view(np.complex128).reshape(-1)
     chunk = 1 << 16
     for start in range(0, mesh.n_cells, chunk):
-        z = np.take(z_points, mesh.cells[start : start + chunk].T, mode="clip")
-        centres = z.sum(axis=0) / 5
-        local = z[1:] - z[0]
-        area = 0.5 * (local[:-1].conj() * local[1:]).imag.sum(axis=0)
+        if isinstance(mesh, PolygonMesh):
+            pieces = slice(start, start + chunk)
+            xy_centres = mesh.vertex_means()[pieces]
+            centres = xy_centres[:, 0] + 1j * xy_centres[:, 1]
+            area = mesh.cell_areas()[pieces]
+        else:
+            z = np.take(z_points, mesh.cells[start : start + chunk].T, mode="clip")
+            centres = z.sum(axis=0) / 5
+            local = z[1:] - z[0]
+            area = 0.5 * (local[:-1].conj() * local[1:]).imag.sum(axis=0)
         i = np.minimum(((centres.real - lo[0]) / pixel).astype(np.int64), shape[0] - 1)
         j = np.minimum(((centres.imag - lo[1]) / pixel).astype(np.int64), shape[1] - 1)
         where = j * shape[0] + i
@@ -402,7 +430,10 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
     angle_bins = np.linspace(0.0, 180.0, 91)
     angle_counts = np.zeros(angle_bins.size - 1)
     aspects = []
-    for angles, aspect in cell_shapes(mesh, chunk=chunk):
+    shapes = (
+        [_polygon_shapes(mesh)] if isinstance(mesh, PolygonMesh) else cell_shapes(mesh, chunk=chunk)
+    )
+    for angles, aspect in shapes:
         angle_counts += np.histogram(angles, bins=angle_bins)[0]
         aspects.append(aspect)
     aspect = np.concatenate(aspects) if aspects else np.zeros(0)
@@ -421,3 +452,15 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
     right.legend(fontsize=8)
     fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: quality of {mesh.n_cells:,} cells")
     return save_figure(fig, path)
+
+
+def _polygon_shapes(mesh: PolygonMesh) -> tuple[np.ndarray, np.ndarray]:
+    """The angles at the corners (straight vertices are not corners) and the aspect ratios."""
+    incoming, outgoing = mesh._slot_vectors()
+    cross = incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0]
+    dot = np.einsum("sd,sd->s", incoming, outgoing)
+    angles = (180.0 - np.degrees(np.arctan2(cross, dot)))[~mesh.straight_vertices()]
+    areas = mesh.cell_areas()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        aspect = np.where(areas > 0, mesh.cell_diameters() ** 2 / areas, np.inf)
+    return angles, aspect

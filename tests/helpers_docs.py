@@ -76,6 +76,7 @@ SLOW = {
     "blockmesh mesh star --level 3 --quality-rule angles": "optimises 14,256 cells' nodes",
     "'mydomains/*.toml' sp ring --level 5": "three meshes at level 5, written as VTU",
     "square-cut l-shape ring --level 4 --plot": "three meshes drawn on two cores",
+    "--adapt --max-unknowns 20000": "twelve adaptive solves, up to 13,000 unknowns",
 }
 
 #: Inline code that starts with ``blockmesh`` but names an option, not a command to run.

@@ -20,6 +20,7 @@ from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
 from blockmesh.geometry.polygons import DIRECTIONS
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "ProgressBar",
@@ -77,7 +78,7 @@ def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False)
     )
 
 
-def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
+def resolve_target(args: argparse.Namespace) -> Domain | Mesh | PolygonMesh:
     """The domain named on the command line, or the mesh in a mesh file blockmesh reads.
 
     A refined mesh is a valid thing to check, integrate over or refine further, so ``DOMAIN``
@@ -124,7 +125,7 @@ def is_mesh_file(name: str) -> bool:
 
 def load_target(
     name: str, *, progress: bool = False, patches: dict[str, list[int | str]] | None = None
-) -> Domain | Mesh:
+) -> Domain | Mesh | PolygonMesh:
     """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`.
 
     With ``progress``, a read that takes over a second shows a line on stderr
@@ -150,7 +151,7 @@ def load_target(
         ) from None
 
 
-def levels_to_add(level: int | None, target: Domain | Mesh, default: int) -> int:
+def levels_to_add(level: int | None, target: Domain | Mesh | PolygonMesh, default: int) -> int:
     """The levels ``--level`` adds to ``target``: as given, else ``default`` (a domain), 0 (a mesh).
 
     A mesh read from a file keeps its own level unless ``--level`` asks for more.
@@ -166,7 +167,7 @@ def levels_to_add(level: int | None, target: Domain | Mesh, default: int) -> int
     """
     if level is not None:
         return level
-    return 0 if isinstance(target, Mesh) else default
+    return 0 if isinstance(target, Mesh | PolygonMesh) else default
 
 
 def inline_polygon(

@@ -12,6 +12,7 @@ from blockmesh.commands.common import (
     safe_component,
 )
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.plot import LABEL_LIMIT, LABELS, plot_domain, plot_mesh
 
 
@@ -43,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh show`` with the parsed ``args``; returns the exit code."""
     target = resolve_target(args)
     output = args.output or f"{safe_component(target.name or 'mesh')}.png"
-    if isinstance(target, Mesh):
+    if isinstance(target, Mesh | PolygonMesh):
         labels = {"auto": None, "all": True, "none": False}[args.labels]
         path = plot_mesh(target, output, labels=labels)
         what = f"level {target.level}, {plural(target.n_cells, 'cell')}"

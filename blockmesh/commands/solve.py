@@ -6,6 +6,9 @@
 prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` the outward flux
 (the traction); other patches are natural (zero flux, traction-free). PATCH may be a comma list
 of patches, or ``*``: every patch the other options do not name.
+
+``--adapt`` solves adaptively instead (:mod:`blockmesh.commands.solve_adaptive`): estimate,
+mark, refine the marked cells locally, repeat until ``--tol`` or ``--max-unknowns``.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from blockmesh.commands.common import (
     print_json,
     resolve_target,
 )
+from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
@@ -63,7 +67,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         type=int,
         metavar="L",
         help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
-        "a mesh file is solved on at its own level, refined further by --level if given)",
+        "a mesh file is solved on at its own level, refined further by --level if given; with "
+        "--adapt the starting level, default 0)",
     )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
@@ -143,6 +148,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
     )
     parser.add_argument("--plot", metavar="PNG", help="draw the solution")
+    add_adaptive_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
 
@@ -228,6 +234,7 @@ def _check(args: argparse.Namespace) -> None:
         raise BlockMeshError(
             "--stabilization identity is for poisson; elasticity takes trace or diagonal"
         )
+    check_adaptive(args)
     check_folders(args.output, args.plot)
 
 
@@ -297,6 +304,12 @@ def run(args: argparse.Namespace) -> int:
     conditions = _conditions(args)
     domain = resolve_target(args)
     dirichlet, neumann = _patch_values(conditions, domain.patch_names)
+    if args.adapt:
+        start = levels_to_add(args.level, domain, 0)
+        mesh = refine_with_rule(
+            domain, start, rule=args.quality_rule, smooth=args.smooth, max_memory=args.max_memory
+        )
+        return run_adaptive(args, mesh, lambda m: _solve(args, m, dirichlet, neumann))
     steps = levels_to_add(args.level, domain, DEFAULT_LEVEL)
     prediction = _check_memory(domain, steps, args)
     started = time.perf_counter()

@@ -26,6 +26,7 @@ from blockmesh.curves.types import curve_from_fields
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ExportError
 from blockmesh.geometry.topology import boundary_of_cells
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "CURVE_ARRAYS",
@@ -60,7 +61,7 @@ class Format:
         ``writer(mesh, path, **options) -> Path``, the path written; it writes atomically
         (:mod:`blockmesh._system.atomic`).
     reader : callable or None
-        ``reader(path) -> Mesh``.
+        ``reader(path) -> Mesh``, or a PolygonMesh for a file of polygon cells.
     splits : tuple of str
         For a format without pentagons, the ways of splitting them it takes (names of
         :data:`blockmesh.io.SPLITS`), the first being the default; empty when the format keeps
@@ -77,7 +78,7 @@ class Format:
     description: str
     extensions: tuple[str, ...]
     writer: Callable[..., Path] = field(repr=False)
-    reader: Callable[[Path], Mesh] | None = field(default=None, repr=False)
+    reader: Callable[[Path], Mesh | PolygonMesh] | None = field(default=None, repr=False)
     splits: tuple[str, ...] = ()
     compressions: tuple[str, ...] = ("none",)
     directory: bool = False
@@ -125,18 +126,19 @@ class Format:
         return ", ".join(parts) or "no options"
 
 
-def check_mesh(mesh: Any) -> Mesh:
-    """``mesh`` itself if it is a non-empty :class:`~blockmesh.mesh.Mesh`, else ExportError."""
-    if not isinstance(mesh, Mesh):
+def check_mesh(mesh: Any) -> Mesh | PolygonMesh:
+    """``mesh`` itself if it is a non-empty Mesh or PolygonMesh, else ExportError."""
+    if not isinstance(mesh, Mesh | PolygonMesh):
         raise ExportError(
-            f"write() takes a blockmesh Mesh (from blockmesh.refine), got {type(mesh).__name__}"
+            "write() takes a blockmesh Mesh or PolygonMesh (from blockmesh.refine), got "
+            f"{type(mesh).__name__}"
         )
     if mesh.n_cells == 0:
         raise ExportError("the mesh has no cells; there is nothing to write")
     return mesh
 
 
-def encode_metadata(mesh: Mesh, **extra: Any) -> str:
+def encode_metadata(mesh: Mesh | PolygonMesh, **extra: Any) -> str:
     """The names and level of a mesh (what the arrays cannot carry), plus ``extra``, as JSON.
 
     A mesh with curved edges also records how many (``curved_edges``): a reader of a format that
@@ -164,7 +166,7 @@ def encode_metadata(mesh: Mesh, **extra: Any) -> str:
 CURVE_ARRAYS = ("curve_edges", "curve_index", "curve_start", "curve_stop", "curve_shapes")
 
 
-def curve_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
+def curve_arrays(mesh: Mesh | PolygonMesh) -> dict[str, np.ndarray]:
     """The curves of ``mesh`` as arrays a file can hold (``{}`` when it has none).
 
     The keys are :data:`CURVE_ARRAYS`; :func:`curves_from_arrays` rebuilds the curves exactly

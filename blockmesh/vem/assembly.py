@@ -5,7 +5,9 @@ one ``scipy.sparse`` CSR matrix. Constrained degrees of freedom are eliminated (
 to the right-hand side); the remaining symmetric positive definite system is solved
 
 * ``solver="direct"`` (default): a sparse LU factorisation (SuperLU, minimum-degree ordering on
-  ``A + Aᵀ``); exact to round-off, fine up to a few hundred thousand unknowns;
+  ``A + Aᵀ`` for uniformly refined meshes, column approximate minimum degree for locally refined
+  ones, see :func:`ordering_for`); exact to round-off, fine up to a few hundred thousand
+  unknowns;
 * ``solver="amg"``: smoothed-aggregation algebraic multigrid as a preconditioner for conjugate
   gradients (``pyamg``, an optional dependency: ``pip install 'blockmesh[vem]'``), to a relative
   residual ``tol``; for large systems. For elasticity the rigid motions are given to the
@@ -49,6 +51,7 @@ __all__ = [
     "assemble_matrix",
     "assemble_vector",
     "check_tolerance",
+    "ordering_for",
     "solve_system",
 ]
 
@@ -121,6 +124,27 @@ def assemble_vector(dofs: list[np.ndarray], blocks: list[np.ndarray], size: int)
     return out
 
 
+#: SuperLU's column orderings by name (see :func:`ordering_for`).
+ORDERINGS = ("MMD_AT_PLUS_A", "COLAMD")
+
+
+def ordering_for(cell_level: np.ndarray) -> str:
+    """The SuperLU ordering for a mesh whose cells have the levels ``cell_level``.
+
+    Measured on 7-15k unknowns: on uniformly refined meshes (the paper's nested numbering)
+    ``MMD_AT_PLUS_A`` factors 1.2-1.8x faster than ``COLAMD``; on locally refined ones (new nodes
+    numbered after the old) it is 8x slower (3.2 s against 0.39 s at 13k unknowns).
+
+    Examples
+    --------
+    >>> ordering_for(np.array([2, 2, 2])), ordering_for(np.array([2, 3, 2]))
+    ('MMD_AT_PLUS_A', 'COLAMD')
+    """
+    levels = np.asarray(cell_level)
+    uniform = levels.size == 0 or bool(np.all(levels == levels[0]))
+    return ORDERINGS[0] if uniform else ORDERINGS[1]
+
+
 def solve_system(
     matrix: sparse.csr_matrix,
     rhs: np.ndarray,
@@ -131,11 +155,14 @@ def solve_system(
     tol: float = 1e-10,
     constraints: np.ndarray | None = None,
     near_nullspace: np.ndarray | None = None,
+    ordering: str = ORDERINGS[0],
 ) -> tuple[np.ndarray, SolveInfo]:
     """Solve ``matrix u = rhs`` with ``u[fixed] = values``.
 
     Parameters
     ----------
+    ordering : {"MMD_AT_PLUS_A", "COLAMD"}
+        The direct solver's column ordering (:func:`ordering_for`).
     constraints : ndarray (n, k), optional
         Extra linear constraints ``constraintsᵀ u = 0`` (Lagrange multipliers; direct solver only):
         the mean-value condition of a pure Neumann problem.
@@ -162,9 +189,9 @@ def solve_system(
                 "a mean-value constraint needs solver='direct' (the augmented system is not "
                 "positive definite)"
             )
-        solution = _solve_constrained(reduced, b, constraints[free_ids])
+        solution = _solve_constrained(reduced, b, constraints[free_ids], ordering)
     elif solver == "direct":
-        solution = _solve_direct(reduced, b)
+        solution = _solve_direct(reduced, b, ordering)
     else:
         candidates = None if near_nullspace is None else near_nullspace[free_ids]
         solution, iterations = _solve_amg(reduced, b, tol, candidates)
@@ -193,11 +220,14 @@ def _out_of_memory(matrix: sparse.csr_matrix) -> ResourceError:
     )
 
 
-def _solve_direct(matrix: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
+def _solve_direct(
+    matrix: sparse.csr_matrix, b: np.ndarray, ordering: str = ORDERINGS[0]
+) -> np.ndarray:
+    choice(ordering, ORDERINGS, "ordering")
     with warnings.catch_warnings():
         warnings.simplefilter("error", sparse_linalg.MatrixRankWarning)
         try:
-            lu = sparse_linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A")
+            lu = sparse_linalg.splu(matrix.tocsc(), permc_spec=ordering)
         except MemoryError:
             raise _out_of_memory(matrix) from None
         except (RuntimeError, sparse_linalg.MatrixRankWarning) as error:
@@ -214,12 +244,12 @@ def _solve_direct(matrix: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
 
 
 def _solve_constrained(
-    matrix: sparse.csr_matrix, b: np.ndarray, constraints: np.ndarray
+    matrix: sparse.csr_matrix, b: np.ndarray, constraints: np.ndarray, ordering: str
 ) -> np.ndarray:
     k = constraints.shape[1]
     block = sparse.csr_matrix(constraints)
     augmented = sparse.bmat([[matrix, block], [block.T, None]], format="csc")
-    full = _solve_direct(augmented.tocsr(), np.concatenate([b, np.zeros(k)]))
+    full = _solve_direct(augmented.tocsr(), np.concatenate([b, np.zeros(k)]), ordering)
     return full[: matrix.shape[0]]
 
 

@@ -36,8 +36,14 @@ import numpy as np
 
 from blockmesh.checks import choice, renamed_keywords
 from blockmesh.errors import ArgumentError, SolverError
-from blockmesh.vem.assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from blockmesh.vem.boundary import boundary_conditions
+from blockmesh.vem.assembly import (
+    SolveInfo,
+    assemble_matrix,
+    assemble_vector,
+    ordering_for,
+    solve_system,
+)
+from blockmesh.vem.boundary import ProblemData, boundary_conditions
 from blockmesh.vem.fields import Field, vector_field
 from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
@@ -109,6 +115,7 @@ class ElasticitySolution:
     material: np.ndarray
     _projections: tuple[Projections, ...]
     _order: int
+    _data: ProblemData | None = None
 
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
@@ -248,6 +255,7 @@ def solve_elasticity(
         tol=tol,
         constraints=constraints,
         near_nullspace=rigid,
+        ordering=ordering_for(pm.cell_level),
     )
     strain = np.empty((pm.n_cells, 3))
     for group, d, strain_map in zip(pm.groups, dofs, strains, strict=True):
@@ -268,6 +276,7 @@ def solve_elasticity(
         material,
         tuple(projs),
         order,
+        ProblemData(tuple(force), bc, recipe, scale),
     )
 
 

@@ -62,7 +62,7 @@ import numpy as np
 if TYPE_CHECKING:
     import meshio
 
-from blockmesh._system.atomic import atomic_file
+from blockmesh._system.atomic import atomic_file, scratch_file
 from blockmesh.errors import ExportError
 from blockmesh.io.common import (
     Format,
@@ -73,18 +73,27 @@ from blockmesh.io.common import (
     mesh_from_arrays,
     name_lookup,
 )
+from blockmesh.io.polygons import (
+    POLYGONS,
+    blocks_to_rows,
+    is_polygon_file,
+    polygon_mesh_from_arrays,
+)
 from blockmesh.io.vtu.stream import read_stream
 from blockmesh.io.vtu.writer import write_vtu_stream
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "FORMAT",
     "field_data",
+    "holds_polygons",
     "mesh_from_meshio",
     "meshio_arrays",
     "meshio_mesh",
     "own_arrays",
     "padded_arrays",
+    "polygon_mesh_from_meshio",
     "read_vtu",
     "write_vtu",
 ]
@@ -92,11 +101,11 @@ __all__ = [
 _FIELD = "blockmesh"
 
 
-def field_data(mesh: Mesh, *, curves: bool = True) -> dict[str, np.ndarray]:
+def field_data(mesh: Mesh | PolygonMesh, *, curves: bool = True) -> dict[str, np.ndarray]:
     """The field data of a VTK file of ``mesh``: name lookups, metadata, curved edges.
 
-    That is the ``KIND:NAME`` lookups, the JSON metadata and, with ``curves``, the curved edges
-    (:func:`~blockmesh.io._common.curve_arrays`, flattened).
+    That is the ``KIND:NAME`` lookups, the JSON metadata (``cells: polygons`` for a polygon mesh)
+    and, with ``curves``, the curved edges (:func:`~blockmesh.io.common.curve_arrays`, flattened).
 
     Examples
     --------
@@ -111,7 +120,8 @@ def field_data(mesh: Mesh, *, curves: bool = True) -> dict[str, np.ndarray]:
         for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names))
         for name, index in name_lookup(kind, names).items()
     }
-    data[_FIELD] = np.frombuffer(encode_metadata(mesh).encode("utf-8"), dtype=np.uint8)
+    extra = {"cells": POLYGONS} if isinstance(mesh, PolygonMesh) else {}
+    data[_FIELD] = np.frombuffer(encode_metadata(mesh, **extra).encode("utf-8"), dtype=np.uint8)
     if curves:
         data.update({k: v.reshape(-1) for k, v in curve_arrays(mesh).items()})
     return data
@@ -143,10 +153,16 @@ def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> Non
         shutil.copyfileobj(fin, fout, 1 << 22)
 
 
-def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
-    """``mesh`` as a :class:`meshio.Mesh`: polygons then boundary lines, cell data -1 padded."""
+def meshio_mesh(mesh: Mesh | PolygonMesh) -> meshio.Mesh:
+    """``mesh`` as a :class:`meshio.Mesh`: polygons then boundary lines, cell data -1 padded.
+
+    A PolygonMesh's cells go in one polygon block per vertex count, with the cell data
+    ``cell_index`` (each cell's position in the mesh) and ``cell_level``.
+    """
     import meshio
 
+    if isinstance(mesh, PolygonMesh):
+        return _meshio_polygons(mesh)
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
     minus_m, minus_eb = np.full(m, -1, np.int64), np.full(eb, -1, np.int64)
     cells = [("polygon", mesh.cells)]
@@ -168,14 +184,124 @@ def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
     )
 
 
-def write_vtu(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
+def _meshio_polygons(mesh: PolygonMesh) -> meshio.Mesh:
+    import meshio
+
+    groups = mesh.groups
+    eb = mesh.boundary_edges.shape[0]
+    cells = [("polygon", g.cells) for g in groups]
+    if eb:
+        cells.append(("line", mesh.boundary_edges))
+    minus_eb = np.full(eb, -1, np.int64)
+
+    def data(values: np.ndarray | None, on_lines: np.ndarray | None = None) -> list[np.ndarray]:
+        parts = [
+            np.full(g.n_cells, -1, np.int64) if values is None else values[g.index] for g in groups
+        ]
+        return parts + ([minus_eb if on_lines is None else on_lines] if eb else [])
+
+    return meshio.Mesh(
+        np.column_stack([mesh.points, np.zeros(mesh.n_points)]),
+        cells,
+        cell_data={
+            "block_id": data(mesh.block_id),
+            "region": data(mesh.region),
+            "parent": data(mesh.parent),
+            "patch": data(None, mesh.boundary_patch),
+            "cell_index": data(np.arange(mesh.n_cells, dtype=np.int64)),
+            "cell_level": data(mesh.cell_level),
+        },
+    )
+
+
+def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> PolygonMesh:
+    """A :class:`PolygonMesh` from a meshio mesh of polygons of any sizes (and boundary lines).
+
+    The cells are taken in the file's order, or in the order of the cell data ``cell_index``
+    when present (blockmesh writes one block per vertex count).
+    """
+    blocks = [(k, c.type, np.asarray(c.data)) for k, c in enumerate(vm.cells)]
+    polys = [(k, d) for k, t, d in blocks if t in ("polygon", "pentagon")]
+    lines = [(k, d) for k, t, d in blocks if t == "line"]
+    others = sorted({t for _, t, _ in blocks} - {"polygon", "pentagon", "line"})
+    if others or not polys:
+        raise ExportError(
+            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads polygon "
+            "meshes (polygon cells, optionally with boundary lines)"
+        )
+
+    def gather(name: str, which: list[tuple[int, np.ndarray]]) -> np.ndarray | None:
+        if name not in vm.cell_data:
+            return None
+        return np.concatenate([np.asarray(vm.cell_data[name][k]).ravel() for k, _ in which])
+
+    offsets, nodes = blocks_to_rows([d for _, d in polys])
+    columns = {name: gather(name, polys) for name in ("block_id", "parent", "region", "cell_level")}
+    index = gather("cell_index", polys)
+    if index is not None:
+        order = np.argsort(index, kind="stable")
+        if not np.array_equal(index[order], np.arange(index.size)):
+            raise ExportError(f"{where}: the cell_index data is not a permutation of the cells")
+        sizes = np.diff(offsets)[order]
+        starts = offsets[:-1][order]
+        offsets = np.concatenate([[0], np.cumsum(sizes)])
+        run = np.repeat(starts - offsets[:-1], sizes)
+        nodes = nodes[np.arange(nodes.size) + run]
+        columns = {k: None if v is None else v[order] for k, v in columns.items()}
+    edges = np.concatenate([d for _, d in lines]) if lines else None
+    patch = gather("patch", lines) if lines else None
+    patch_names = _names(meta, vm.field_data, "patch")
+    if edges is not None and patch is None:
+        patch_names = patch_names or ["boundary"]
+    return polygon_mesh_from_arrays(
+        vm.points,
+        offsets,
+        nodes,
+        where=where,
+        region_names=_names(meta, vm.field_data, "region"),
+        boundary_edges=edges if edges is not None else (np.empty((0, 2)) if meta else None),
+        boundary_patch=patch,
+        patch_names=patch_names,
+        level=meta.get("level", 0),
+        name=meta.get("name", ""),
+        **columns,
+    )
+
+
+def holds_polygons(vm: meshio.Mesh, meta: dict) -> bool:
+    """Whether a meshio mesh read from a file is a polygon mesh (not all pentagons)."""
+    if is_polygon_file(meta):
+        return True
+    return any(
+        c.type == "polygon" and np.asarray(c.data).ndim == 2 and np.asarray(c.data).shape[1] != 5
+        for c in vm.cells
+    )
+
+
+def write_vtu(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none") -> Path:
     """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M).
 
-    Streamed (:mod:`blockmesh.io.vtu.writer`): the arrays piece by piece, compressed blocks on
-    several threads, in meshio's layout with the field data in place.
+    An all-pentagon mesh is streamed (:mod:`blockmesh.io.vtu.writer`): the arrays piece by
+    piece, compressed blocks on several threads, in meshio's layout with the field data in place.
+    A polygon mesh (cells of several sizes) goes through meshio, a polygon block per vertex count.
     """
-    with atomic_file(path) as final, open(final, "wb") as out:
-        write_vtu_stream(out, mesh, _field_data_xml(field_data(mesh)), compression=compression)
+    if not isinstance(mesh, PolygonMesh):
+        with atomic_file(path) as final, open(final, "wb") as out:
+            write_vtu_stream(out, mesh, _field_data_xml(field_data(mesh)), compression=compression)
+        return Path(path).absolute()
+    import meshio
+
+    out = meshio_mesh(mesh)
+    big = max(mesh.nodes.nbytes * 2, mesh.points.nbytes * 2) >= 2**31
+    with atomic_file(path) as final, scratch_file(path) as raw:
+        meshio.vtu.write(
+            str(raw),
+            out,
+            binary=True,
+            compression=None if compression == "none" else compression,
+            header_type="UInt64" if big else None,
+        )
+        _insert_field_data(raw, final, field_data(mesh))
     return Path(path).absolute()
 
 
@@ -306,7 +432,7 @@ def own_arrays(arrays: dict[str, Any]) -> dict[str, Any]:
     return arrays
 
 
-def read_vtu(path: Path) -> Mesh:
+def read_vtu(path: Path) -> Mesh | PolygonMesh:
     """Read a VTU file of pentagons (and boundary lines), as written by :func:`write_vtu`.
 
     Files from elsewhere are read too when their polygons are all pentagons: missing data gets
@@ -316,7 +442,7 @@ def read_vtu(path: Path) -> Mesh:
     """
     where = str(path)
     parts = read_stream(Path(path))
-    if parts is not None:
+    if parts is not None:  # pentagons only: a polygon file is never one it handles
         meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
         arrays = padded_arrays(
             parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta, where
@@ -333,6 +459,8 @@ def read_vtu(path: Path) -> Mesh:
         raise ExportError(f"cannot read {where} as VTU: {exc}") from None
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
+    if holds_polygons(vm, meta):
+        return polygon_mesh_from_meshio(vm, meta, where)
     arrays = meshio_arrays(vm, meta, where)
     del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
     return mesh_from_arrays(where=where, **own_arrays(arrays))
