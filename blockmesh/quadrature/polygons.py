@@ -3,7 +3,7 @@
 The paper's rule works for any convex (indeed any star-shaped) polygon, not only for pentagons:
 cut the cell of ``k`` vertices into ``k`` triangles ``(c, v_i, v_i+1)`` from its vertex mean
 ``c`` and integrate each in collapsed coordinates with the rule's tensor Gauss table
-(:class:`~blockmesh.quadrature.rule.SectorNodes`),
+(:class:`~blockmesh.quadrature.rule.SectorNodes`)::
 
     ∫∫_(c, a, b) f ≈ |det(a - c, b - c)| Σ_jk w_jk f((1 - r_j) c + r_j ((a + b)/2 + h_k (b - a))).
 
