@@ -1,9 +1,9 @@
 """Composite domains: decomposition time and blocks, against the same outline as one polygon.
 
-Run: ``python benchmarks/bench_composite.py [--repeat 3] [--output docs/benchmarks/composite.md]``.
+Run: ``python benchmarks/bench_composite.py [--repeat 3]`` (writes docs/benchmarks/composite.md).
 
 For every composite catalogue domain (several parts, a later part cut out of the earlier ones),
-prints and writes a Markdown table of
+prints and writes to its page a table of
 
 - the composite: its regions and interfaces, its blocks, the time of the fragmenting (shapely:
   parts cut, noded, faces found and checked), of the decomposition of all faces at once
@@ -26,9 +26,9 @@ import argparse
 import time
 import tomllib
 import warnings
-from pathlib import Path
 
 import shapely
+from _page import Page, add_arguments
 
 import blockmesh
 import blockmesh.domain.compose as compose
@@ -136,46 +136,54 @@ def measure(name: str, repeat: int) -> dict[str, object]:
     }
 
 
-def table(rows: list[dict[str, object]]) -> str:
-    head = (
-        "| domain | regions | interfaces (block edges) | blocks | fragment s | decompose s | "
-        "whole construction s | outline as one polygon: blocks, s | first part with holes: "
-        "blocks, s |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
-    )
-    lines = [
-        f"| {r['name']} | {r['regions']} | {r['interfaces']} ({r['interface edges']}) | "
-        f"{r['blocks']:,} | {r['fragment']:.3f} | {r['decompose']:.3f} | {r['total']:.2f} | "
-        f"{r['outline blocks']:,}, {r['outline seconds']:.3f} | "
-        f"{r['holes blocks']:,}, {r['holes seconds']:.2f} |"
-        for r in rows
-    ]
-    return head + "\n".join(lines) + "\n"
+ABOUT = """Each composite catalogue domain against the same outline as one polygon of one
+material (the union of its parts, `Domain.from_shapely`) and against its first part with the
+later parts cut out as holes (one material, the circles as circular holes of the polygon form).
+*fragment*: the parts cut (a later part cut out of the earlier ones), noded and checked
+(shapely); *decompose*: all faces triangulated at once with the interfaces as segments,
+templates and node moves; *whole construction*: everything `blockmesh.load_domain` does, the
+arcs put on the circles and the Domain's own checks (its curve checks) included.
+Each time is the best of `--repeat` runs after a warm-up."""
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--output", type=Path, default=Path("docs/benchmarks/composite.md"))
+    add_arguments(parser)
     args = parser.parse_args()
-    rows = [measure(name, args.repeat) for name in composites()]
-    text = table(rows)
-    print(text)
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text(
-        "# Composite domains: decomposition time and blocks\n\n"
-        "Written by `python benchmarks/bench_composite.py` (best of "
-        f"{args.repeat} runs after a warm-up, on a shared 2-core machine: times are noisy). "
-        "Each composite catalogue domain against the same outline as one polygon of one "
-        "material (the union of its parts, `Domain.from_shapely`) and against its first part "
-        "with the later parts cut out as holes (one material, the circles as circular holes of "
-        "the polygon form). *fragment*: the parts cut "
-        "(a later part cut out of the earlier ones), noded and checked (shapely); *decompose*: "
-        "all faces triangulated at once with the interfaces as segments, templates and node "
-        "moves; *whole construction*: everything `blockmesh.load_domain` does, the arcs put on "
-        "the circles and the Domain's own checks (the curve checks to level 5) included.\n\n" + text
+    page = Page("composite", "Composite domains: decomposition time and blocks", ABOUT)
+    table = page.table(
+        "The catalogue composites against the same geometry as one polygon",
+        [
+            "domain",
+            "regions",
+            "interfaces (block edges)",
+            "blocks",
+            "fragment s",
+            "decompose s",
+            "whole construction s",
+            "outline as one polygon: blocks, s",
+            "first part with holes: blocks, s",
+        ],
     )
-    print(f"wrote {args.output}")
+    for name in composites():
+        r = measure(name, args.repeat)
+        table.row(
+            r["name"],
+            r["regions"],
+            f"{r['interfaces']} ({r['interface edges']})",
+            f"{r['blocks']:,}",
+            f"{r['fragment']:.3f}",
+            f"{r['decompose']:.3f}",
+            f"{r['total']:.2f}",
+            f"{r['outline blocks']:,}, {r['outline seconds']:.3f}",
+            f"{r['holes blocks']:,}, {r['holes seconds']:.2f}",
+        )
+    table.note(
+        "The blocks say what the interfaces cost (a circle followed on both sides, the parts "
+        "decomposed together); the split of the time says where it goes."
+    )
+    page.write(args)
 
 
 if __name__ == "__main__":

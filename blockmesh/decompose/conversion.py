@@ -46,11 +46,13 @@ import numpy as np
 
 from blockmesh import io as blockmesh_io
 from blockmesh._moved import removed_names
-from blockmesh.decompose.optimise import improve_angles
+from blockmesh.decompose.optimise import WorstAngle
 from blockmesh.decompose.pieces import pentagons_from_pieces
+from blockmesh.decompose.triangulate import constrained_delaunay
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, DomainError, DomainFormatError
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.placement import Freedom
 
 __all__ = ["BlockSpec", "convert_elements", "read_element_mesh"]
 
@@ -416,7 +418,7 @@ def _improved(result: Any, pieces: list[np.ndarray], points: np.ndarray) -> np.n
         chain = result.side_chain(a, b)
         d = local[b] - local[a]
         slide[chain[1:3]] = d / np.hypot(*d)
-    moved = frame.to_global(improve_angles(local, result.blocks, fixed, slide=slide))
+    moved = frame.to_global(WorstAngle().place(local, result.blocks, Freedom(fixed, slide)))
     moved[: points.shape[0]] = points
     return moved
 
@@ -428,7 +430,7 @@ def _convex_parts(local: np.ndarray, corners: np.ndarray) -> list[np.ndarray]:
     import shapely
 
     polygon = shapely.Polygon(local[corners])
-    parts = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
+    parts = shapely.get_parts(constrained_delaunay(polygon))
     ids = {tuple(p): k for p, k in zip(local[corners].tolist(), corners.tolist(), strict=True)}
     out = []
     for tri in parts:

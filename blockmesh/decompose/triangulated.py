@@ -21,10 +21,11 @@ import numpy as np
 
 from blockmesh.decompose.decomposition import Decomposition
 from blockmesh.decompose.merge import pair_triangles
-from blockmesh.decompose.optimise import improve_angles
+from blockmesh.decompose.optimise import WorstAngle
 from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.decompose.triangulate import triangulate
 from blockmesh.geometry.polygons import interior_angles
+from blockmesh.refinement.placement import Freedom
 
 __all__ = ["triangulated_decomposition"]
 
@@ -56,7 +57,7 @@ def triangulated_decomposition(rings: list[np.ndarray], min_angle: float) -> Dec
         ordered = chains_of_segments[order[bounds[edge] : bounds[edge + 1]]]
         ring_chains.append(np.concatenate([ordered[:, :3].ravel(), ordered[-1:, 3]]))
     fixed, slide = _boundary_freedom(nodes, ring_chains, n_edges)
-    nodes = improve_angles(nodes, blocks, fixed, slide=slide)
+    nodes = WorstAngle().place(nodes, blocks, Freedom(fixed, slide))
     per_ring = [ring_chains[offsets[r] : offsets[r + 1]] for r in range(len(rings))]
     angles = interior_angles(nodes[blocks])
     return Decomposition(

@@ -39,7 +39,7 @@ from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, res
 from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
 from blockmesh.domain.interfaces import resolve_interfaces
 from blockmesh.domain.parts import part_from_shapely, part_from_table, part_from_value
-from blockmesh.domain.polygon_edges import hole_list, ring_edge_patches
+from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
 from blockmesh.domain.validate import (
     Ring,
@@ -419,7 +419,10 @@ class Domain:
         patches : mapping of name to a list of polygon edges, optional
             An integer ``i`` is edge ``i`` of the outer boundary (from corner ``i`` to
             ``i + 1`` as given); ``"hole K"`` is every edge of hole ``K`` (0-based);
-            ``"hole K:E"`` is edge ``E`` of hole ``K``. Unlisted edges go to ``"boundary"``.
+            ``"hole K:E"`` is edge ``E`` of hole ``K``; ``"left"``, ``"right"``, ``"top"`` and
+            ``"bottom"`` are the outer boundary's edges facing that way (their outward normal
+            points most nearly there: :func:`blockmesh.geometry.edges_facing`) and not listed
+            by number in another patch. Unlisted edges go to ``"boundary"``.
         arcs : mapping of edge to Arc, optional
             Polygon edges that are circular arcs: edge ``i`` of the outer boundary, or
             ``"hole K:E"``, to an :class:`~blockmesh.curves.Arc` (``through`` or ``center``).
@@ -448,9 +451,8 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
-        if (
-            arcs or circles
-        ):  # decomposed through the chords, then curved: blockmesh.domain.curved_polygons
+        patches = facing_resolved(patches, coords)
+        if arcs or circles:  # decomposed through the chords, then curved: domain.curved_polygons
             return curved_polygon(
                 cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
                 description=description,

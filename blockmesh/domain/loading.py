@@ -20,6 +20,9 @@
                                     (:meth:`Domain.from_mesh`)
 =================================== ===========================================================
 
+The extension decides how a file is read (its content is not sniffed): a file with another
+extension, or none, is refused with the list of the known ones.
+
 :func:`parse_polygon_string` reads the inline ``"x1,y1 x2,y2 ..."`` form of ``--polygon`` and
 ``--hole``.
 
@@ -36,6 +39,7 @@ from __future__ import annotations
 import difflib
 import json
 import re
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -102,8 +106,15 @@ def parse_polygon_string(text: str, *, what: str = "polygon") -> np.ndarray:
     return np.array(points, dtype=np.float64)
 
 
-def load_domain(name_or_path: str | Path) -> Domain:
+def load_domain(
+    name_or_path: str | Path, *, patches: Mapping[str, Iterable[int | str]] | None = None
+) -> Domain:
     """A catalogue domain by name, or a domain, outline or mesh file by path.
+
+    ``patches`` names edges of an outline (a ``.wkt`` or ``.geojson`` file), as
+    :meth:`Domain.from_polygon` takes them (edge numbers, ``"hole K"``, ``"hole K:E"``,
+    ``"left"`` ...), added to a GeoJSON feature's own; the other sources name their patches
+    themselves, and giving ``patches`` for them is an error.
 
     Examples
     --------
@@ -117,13 +128,19 @@ def load_domain(name_or_path: str | Path) -> Domain:
         if not path.exists():
             raise DomainFormatError(f"{path}: no such file")
         if suffix == ".wkt":
-            return _from_wkt(path)
+            return _from_wkt(path, patches)
         if suffix in (".geojson", ".json"):
-            return _from_geojson(path)
+            return _from_geojson(path, patches)
+        if patches:
+            raise DomainFormatError(_NOT_AN_OUTLINE.format(name=path))
         if suffix in MESH_SUFFIXES or path.is_dir():
             return Domain.from_mesh(path)
+        if suffix != ".toml" and path.is_file():  # (a device or a FIFO: said by the reader)
+            raise DomainFormatError(_unknown_kind(path, suffix))
         return Domain.from_toml(path)
     names = catalogue_names()
+    if patches and text in names:
+        raise DomainFormatError(_NOT_AN_OUTLINE.format(name=text))
     if text not in names:
         close = difflib.get_close_matches(text, names, n=3)
         hint = f" Did you mean {', '.join(close)}?" if close else ""
@@ -134,11 +151,34 @@ def load_domain(name_or_path: str | Path) -> Domain:
     return Domain.from_toml(catalogue_path(text))
 
 
+_NOT_AN_OUTLINE = (
+    "patches name edges of a polygon outline (a .wkt or .geojson file, or an inline polygon); "
+    "{name} names its own patches (a domain file in its [patches] table, a mesh file on its "
+    "boundary)"
+)
+_NOT_ONE_OUTLINE = (
+    "{path}: patches name edges of one polygon outline, and this file is a composite domain of "
+    "{count} parts; name the patches of each part in the file (a GeoJSON feature's "
+    "properties.patches, or a domain file's [[parts]] with their own patches)"
+)
+
+
+def _unknown_kind(path: Path, suffix: str) -> str:
+    """The message for a file whose extension says nothing blockmesh reads (no sniffing)."""
+    what = f"the extension {suffix!r} is not one" if suffix else "it has no extension, one"
+    return (
+        f"{path}: {what} blockmesh knows (it goes by the extension); it reads domain files "
+        f".toml, .wkt, .geojson and .json, and meshes {' '.join(sorted(MESH_SUFFIXES))} (or an "
+        "OpenFOAM case folder): rename the file to the extension of its contents (a Well-Known "
+        "Text polygon: .wkt)"
+    )
+
+
 #: A line ``NAME = GEOMETRY`` (or ``NAME: GEOMETRY``) of a WKT file of named parts.
 _NAMED_WKT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.\-]*)\s*[:=]\s*(\S.*)$")
 
 
-def _from_wkt(path: Path) -> Domain:
+def _from_wkt(path: Path, patches: Mapping[str, Iterable[int | str]] | None = None) -> Domain:
     import shapely
 
     text = read_text_bounded(path, what="WKT file")
@@ -147,6 +187,8 @@ def _from_wkt(path: Path) -> Domain:
     ]
     named = [_NAMED_WKT.match(line) for line in lines]
     if lines and all(named):
+        if patches:
+            raise DomainFormatError(_NOT_ONE_OUTLINE.format(path=path, count=len(lines)))
         geometries = {}
         for number, match in enumerate(named, start=1):
             region, wkt = match.group(1), match.group(2)  # type: ignore[union-attr]
@@ -161,10 +203,13 @@ def _from_wkt(path: Path) -> Domain:
     if isinstance(geometry, shapely.GeometryCollection | shapely.MultiPolygon) and (
         len(geometry.geoms) > 1
     ):
+        if patches:
+            raise DomainFormatError(_NOT_ONE_OUTLINE.format(path=path, count=len(geometry.geoms)))
         parts = {f"part{k}": g for k, g in enumerate(geometry.geoms)}
         return _with_source(path, lambda: _composite(parts, path.stem))
     return _with_source(
-        path, lambda: Domain.from_shapely(_one_polygon(geometry, path), name=path.stem)
+        path,
+        lambda: Domain.from_shapely(_one_polygon(geometry, path), name=path.stem, patches=patches),
     )
 
 
@@ -188,7 +233,7 @@ def _composite(geometries: dict[str, Any], name: str, **options: Any) -> Domain:
     return compose_parts(Domain, parts, name=name, **options)
 
 
-def _from_geojson(path: Path) -> Domain:
+def _from_geojson(path: Path, extra: Mapping[str, Iterable[int | str]] | None = None) -> Domain:
     import shapely.geometry
 
     text = read_text_bounded(path, what="GeoJSON file")
@@ -197,6 +242,9 @@ def _from_geojson(path: Path) -> Domain:
     except (json.JSONDecodeError, RecursionError) as error:
         raise DomainFormatError(f"{path}: not JSON ({error})") from None
     if _is_composite(document):
+        if extra:
+            count = len(document["features"])
+            raise DomainFormatError(_NOT_ONE_OUTLINE.format(path=path, count=count))
         return _composite_geojson(document, path)
     feature = _one_feature(document, path)
     properties = feature.get("properties") or {}
@@ -217,6 +265,8 @@ def _from_geojson(path: Path) -> Domain:
             f"{path}: properties.patches must be an object of patch name: [edges], got "
             f"{type(patches).__name__}"
         )
+    if extra:
+        patches = {**(patches or {}), **extra}
     return _with_source(
         path,
         lambda: Domain.from_shapely(

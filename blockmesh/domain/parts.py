@@ -32,7 +32,7 @@ import shapely
 
 from blockmesh.curves.types import Arc
 from blockmesh.domain.curved_polygons import _circle_fields, _edge_key
-from blockmesh.domain.polygon_edges import hole_list, ring_edge_patches
+from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
 from blockmesh.domain.tomlio import _polygon_arcs, _toml_type
 from blockmesh.domain.validate import DEFAULT_PATCH, _check_name, parse_points
 from blockmesh.errors import ArgumentTypeError, DomainError, DomainFormatError
@@ -197,7 +197,7 @@ def _part_from_fields(table: Mapping[str, Any], region: str, label: str) -> Part
     n_holes = len(rings) - 1
     shapes = [_circle(circle, f"circle {c}") for c, circle in enumerate(circles)]
     sizes = [len(r) for r in rings] + [1] * len(shapes)
-    named = ring_edge_patches(table.get("patches"), sizes)
+    named = ring_edge_patches(facing_resolved(table.get("patches"), rings[0]), sizes)
     arcs: dict[tuple[int, int], Any] = {}
     raw_arcs = table.get("arcs")
     if raw_arcs is not None:
@@ -282,7 +282,7 @@ def part_from_shapely(
         rings = [np.asarray(polygon.exterior.coords)[:-1, :2]]
         rings += [np.asarray(ring.coords)[:-1, :2] for ring in polygon.interiors]
         try:
-            named = ring_edge_patches(patches, [len(r) for r in rings])
+            named = ring_edge_patches(facing_resolved(patches, rings[0]), [len(r) for r in rings])
         except DomainError as error:
             raise type(error)(f"{label}: {error}") from None
         out.append(

@@ -1,14 +1,18 @@
-"""Edges of a polygon as a user names them: ``i``, ``"hole K"``, ``"hole K:E"``.
+"""Edges of a polygon as a user names them: ``i``, ``"hole K"``, ``"hole K:E"``, ``"left"``.
 
 The polygon forms of a domain (:meth:`blockmesh.Domain.from_polygon`, a part of a composite
 domain, a GeoJSON feature) put polygon edges in patches by these names: an integer ``i`` is edge
 ``i`` of the outer boundary (from corner ``i`` to ``i + 1`` as given), ``"hole K"`` every edge of
-hole ``K`` and ``"hole K:E"`` edge ``E`` of hole ``K`` (0-based).
+hole ``K`` and ``"hole K:E"`` edge ``E`` of hole ``K`` (0-based); ``"left"``, ``"right"``,
+``"top"`` and ``"bottom"`` are the outer edges facing that way that no patch lists by number
+(:func:`facing_resolved`).
 
 Examples
 --------
 >>> ring_edge_patches({"inlet": [3], "wall": ["hole 0"]}, [4, 3])
 [[None, None, None, 'inlet'], ['wall', 'wall', 'wall']]
+>>> facing_resolved({"inlet": ["left"], "top": [2]}, [(0, 0), (2, 0), (2, 1), (0, 1)])
+{'inlet': [3], 'top': [2]}
 """
 
 from __future__ import annotations
@@ -18,9 +22,11 @@ import re
 from collections.abc import Iterable, Mapping
 from typing import Any
 
+from blockmesh.domain.validate import parse_points
 from blockmesh.errors import DomainError, DomainFormatError
+from blockmesh.geometry.polygons import DIRECTIONS, edges_facing
 
-__all__ = ["HOLE_EDGE", "hole_list", "ring_edge_patches", "ring_edges"]
+__all__ = ["HOLE_EDGE", "facing_resolved", "hole_list", "ring_edge_patches", "ring_edges"]
 
 
 def hole_list(holes: Any) -> list[Any]:
@@ -37,6 +43,43 @@ def hole_list(holes: Any) -> list[Any]:
 
 #: ``"hole K"`` (every edge of hole K) or ``"hole K:E"`` (its edge E) in a polygon's patches.
 HOLE_EDGE = re.compile(r"^hole (\d+)(?::(\d+))?$")
+
+
+def facing_resolved(patches: Any, coords: Any) -> Any:
+    """``patches`` with the direction words (``"left"`` ...) replaced by outer edge indices.
+
+    ``coords`` are the outer boundary's corners. An edge a patch lists by number (or by another
+    word) stays there: a word takes the edges facing its way that nothing else claims.
+    """
+    if not isinstance(patches, Mapping):
+        return patches
+    words = {
+        name: [e for e in edges if isinstance(e, str) and e.strip().lower() in DIRECTIONS]
+        for name, edges in patches.items()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+    }
+    if not any(words.values()):
+        return patches
+    facing = edges_facing(parse_points(coords, "polygon vertex"))
+    claimed: set[int] = {
+        int(e)
+        for edges in patches.values()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+        for e in edges
+        if isinstance(e, numbers.Integral)
+    }
+    resolved: dict[str, Any] = {}
+    for name, edges in patches.items():
+        if not words.get(name):
+            resolved[name] = edges
+            continue
+        listed = [e for e in edges if e not in words[name]]
+        for word in words[name]:
+            taken = [i for i in facing[word.strip().lower()] if i not in claimed]
+            listed += taken
+            claimed.update(taken)
+        resolved[name] = listed
+    return resolved
 
 
 def ring_edge_patches(
@@ -71,8 +114,9 @@ def ring_edge_patches(
 def ring_edges(patch_name: str, edge: object, sizes: list[int]) -> list[tuple[int, int]]:
     """The (ring, edge) pairs one item of a polygon patch list names."""
     forms = (
-        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K) or '
-        '"hole K:E" (edge E of hole K)'
+        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K), '
+        '"hole K:E" (edge E of hole K) or left, right, top, bottom (the outer edges facing '
+        "that way)"
     )
     if isinstance(edge, numbers.Integral) and not isinstance(edge, bool):
         if not 0 <= int(edge) < sizes[0]:

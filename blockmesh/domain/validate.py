@@ -186,8 +186,11 @@ def _short(item: object) -> str:
 
 #: Up to this many points, close pairs are found by comparing all pairs (chunked numpy), so that
 #: loading a catalogue domain does not import ``scipy.spatial`` (0.3-0.5 s in a fresh process);
-#: above it, with a k-d tree.
+#: above it, by a sweep along x (the composite catalogue domains have a few thousand vertices),
+#: or with a k-d tree when the sweep would compare more than :data:`_SWEEP_PAIRS` pairs per point
+#: (many points within ``r`` of one another in x).
 _BRUTE_FORCE_POINTS = 2048
+_SWEEP_PAIRS = 32
 
 
 def close_pairs(points: np.ndarray, r: float) -> np.ndarray:
@@ -203,6 +206,9 @@ def close_pairs(points: np.ndarray, r: float) -> np.ndarray:
     points = np.asarray(points, dtype=np.float64)
     n = points.shape[0]
     if n > _BRUTE_FORCE_POINTS:
+        swept = _swept_pairs(points, r)
+        if swept is not None:
+            return swept
         from scipy.spatial import cKDTree
 
         return cKDTree(points).query_pairs(r=r, output_type="ndarray")
@@ -215,6 +221,28 @@ def close_pairs(points: np.ndarray, r: float) -> np.ndarray:
         keep = i < j
         found.append(np.stack([i[keep], j[keep]], axis=1))
     return np.concatenate(found)
+
+
+def _swept_pairs(points: np.ndarray, r: float) -> np.ndarray | None:
+    """The pairs of :func:`close_pairs` by a sweep along x; None when it would compare too many.
+
+    Every point is compared with the points after it in x order that are at most ``r`` further
+    in x: O(n log n) plus the pairs compared.
+    """
+    n = points.shape[0]
+    order = np.argsort(points[:, 0], kind="stable")
+    xs = points[order, 0]
+    counts = np.searchsorted(xs, xs + r, side="right") - np.arange(n) - 1
+    total = int(counts.sum())
+    if total > _SWEEP_PAIRS * n:
+        return None
+    first = np.repeat(np.arange(n), counts)
+    step = np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
+    i, j = order[first], order[first + 1 + step]
+    gap = points[i] - points[j]
+    keep = np.hypot(gap[:, 0], gap[:, 1]) <= r
+    pairs = np.stack([i[keep], j[keep]], axis=1).astype(np.intp)
+    return np.sort(pairs, axis=1)
 
 
 def _coincident_pairs(points: np.ndarray) -> list[tuple[int, int]]:

@@ -24,7 +24,7 @@ import numpy as np
 
 from blockmesh.curves.edges import CurvedEdges, area_corrections
 from blockmesh.errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
-from blockmesh.geometry.topology import boundary_of_cells, check_boundary
+from blockmesh.geometry.topology import PolygonCells, boundary_of_cells, check_boundary
 from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas, widest_id_spread
 
 __all__ = ["Mesh", "MeshQuality"]
@@ -137,7 +137,9 @@ class Mesh:
         The edges that lie on curved block edges, with the curve and the stretch of its parameter
         each covers (:class:`blockmesh.curves.edges.CurvedEdges`); None when every edge is straight.
         A Domain with curves passes them to its block mesh and :func:`blockmesh.refine` carries
-        them to every level; writers ignore them (the nodes are already on the curves).
+        them to every level. The ``.npz``, ``.xdmf`` and ``.vtu`` files keep them (a mesh read
+        back refines onto its curves); the other formats keep only the nodes, which are on the
+        curves, and their readers warn that refining such a mesh gives straight edges.
     interface_edges : ndarray (Ei, 2) int64
         Interior edges named as internal patches: where two regions of a composite domain meet.
         Each is an edge of two cells; the cell on its left (as it runs from its first node to its
@@ -724,13 +726,22 @@ class Mesh:
         )
 
 
-def _edge_cells(cells: np.ndarray, edges: np.ndarray, n_points: int) -> np.ndarray:
-    """The cell on the left and the cell on the right of each edge, (E, 2); located errors."""
+def _edge_cells(cells: np.ndarray | PolygonCells, edges: np.ndarray, n_points: int) -> np.ndarray:
+    """The cell on the left and the cell on the right of each edge, (E, 2); located errors.
+
+    ``cells`` are an (M, k) array or the compressed rows of a polygon mesh.
+    """
     out = np.empty((edges.shape[0], 2), dtype=np.int64)
     if edges.shape[0] == 0:
         out.setflags(write=False)
         return out
-    keys = (cells * n_points + np.roll(cells, -1, axis=1)).ravel()
+    owner: np.ndarray | None = None  # the cell of every slot (else slot // k)
+    if isinstance(cells, PolygonCells):
+        keys = cells.nodes * n_points + cells.following()
+        owner, width = cells.slot_cell(), 0
+    else:
+        keys = (cells * n_points + np.roll(cells, -1, axis=1)).ravel()
+        width = cells.shape[1]
     order = np.argsort(keys, kind="stable")
     ordered = keys[order]
     for side, (a, b) in enumerate(((edges[:, 0], edges[:, 1]), (edges[:, 1], edges[:, 0]))):
@@ -744,6 +755,7 @@ def _edge_cells(cells: np.ndarray, edges: np.ndarray, n_points: int) -> np.ndarr
                 "between two cells; an interface runs between cells (boundary edges belong to "
                 "patches)"
             )
-        out[:, side] = order[at] // cells.shape[1]
+        slots = order[at]
+        out[:, side] = slots // width if owner is None else owner[slots]
     out.setflags(write=False)
     return out

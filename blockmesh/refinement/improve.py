@@ -5,24 +5,13 @@ and :mod:`blockmesh.refinement.smoothing` cannot move the nodes on block edges.
 :func:`optimize_nodes` moves every node that is not on the domain boundary, block-edge nodes
 included, and lets boundary nodes slide along their own straight boundary line (interface nodes
 of a composite domain along their straight interface); domain corners, the nodes where the patch
-changes and the nodes on curves stay where they are. Topology, counts, patches and regions are
-unchanged, and every cell stays strictly convex.
-
-It minimises a shape energy, the sum over all cell corners of the corner's distortion from the
-corner of a regular polygon with the same number of vertices (Knupp's condition number of the
-corner's Jacobian against the ideal one):
-
-    μ = |A W⁻¹|²_F / (2 det(A W⁻¹)) >= 1,
-
-with ``A = [x_next - x, x_prev - x]`` and W the same matrix for the regular polygon. μ = 1 when
-the corner is a scaled, rotated copy of the ideal corner (the right angle, equal edges), and
-μ -> ∞ as the corner flattens or folds, so a descent that keeps the energy finite keeps every
-corner turning left: every cell stays strictly convex. The minimiser is limited-memory BFGS with
-a backtracking line search that rejects any step that makes a corner straight or reflex.
-
-With ``power=4`` (the sum of μ⁴) the worst corners weigh most, and with ``size_target="cells"``
-every cell keeps about its size: the ``"angles"`` rule of :func:`refine_with_rule`, which raises
-the worst angle of graded block layouts (decomposed polygons) where uniform sizes lower it.
+changes and the nodes on curves stay where they are
+(:meth:`~blockmesh.refinement.placement.Freedom.of_mesh`). Topology, counts, patches and regions
+are unchanged, and every cell stays strictly convex. It minimises the shape energy of
+:mod:`blockmesh.refinement.shape`; :class:`~blockmesh.refinement.placement.ShapeOptimization` is
+the same as a placement rule, which ``refine(..., placement="optimized")`` (or ``"angles"``:
+``power=4``, ``size_target="cells"``) applies after every level; :func:`refine_with_rule` is that
+call under its earlier name.
 
 :func:`inner_point_rule` is the cheaper, nested alternative: it refines level by level and puts
 the five inner points of every cell at ``p + t (u_i - p)`` with the ``t`` per level that
@@ -41,18 +30,25 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Literal, overload
 
 import numpy as np
 
 from blockmesh.checks import choice, whole_number
 from blockmesh.errors import ArgumentError, ArgumentTypeError
-from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, is_strictly_convex
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.pipeline import refine
+from blockmesh.refinement.placement import (
+    PLACEMENTS,
+    SIZE_TARGETS,
+    Freedom,
+    ShapeOptimization,
+    as_placement,
+)
+from blockmesh.refinement.shape import PlacementReport, ShapeEnergy, optimize_points
 
 __all__ = [
+    "ANGLE_TIE",
     "QUALITY_RULES",
     "SIZE_TARGETS",
     "PlacementReport",
@@ -62,105 +58,12 @@ __all__ = [
     "shape_energy",
 ]
 
-#: Node-placement rules of a refinement: the paper's; optimised node placement after every level
-#: (:func:`optimize_nodes`) with cell sizes made uniform ("optimized", for accuracy per unknown on
-#: evenly sized blocks); or after every level against the worst corners, each cell keeping about
-#: its size ("angles", for graded block layouts such as decomposed polygons).
-QUALITY_RULES = ("paper", "optimized", "angles")
-
-#: What the size term of :func:`optimize_nodes` compares each cell's area with.
-SIZE_TARGETS = ("mean", "cells")
-
-#: Corners with a left-turn sine at most this are refused by the line search (cells stay convex).
-_SIN_FLOOR = 1e-6
-
-
-@dataclass(frozen=True)
-class PlacementReport:
-    """What :func:`optimize_nodes` did: energies per corner before and after, iterations."""
-
-    energy_before: float
-    energy_after: float
-    iterations: int
-    moving_nodes: int
-    sliding_nodes: int
-
-
-class _Energy:
-    """The corner distortion (and the size term) of a fixed set of cells, with gradients.
-
-    The per-corner index arrays are built once; every evaluation is a handful of whole-array
-    operations on the x and y coordinates separately, O(M) time and memory.
-    """
-
-    def __init__(
-        self,
-        cells: np.ndarray,
-        n_points: int,
-        size_weight: float,
-        target: float | np.ndarray,
-        power: float = 1.0,
-    ):
-        n = cells.shape[1]
-        theta = np.pi * (n - 2) / n  # the corner of a regular n-gon
-        winv = np.linalg.inv(np.array([[1.0, np.cos(theta)], [0.0, np.sin(theta)]]))
-        s = winv @ winv.T
-        self.s00, self.s01, self.s11 = float(s[0, 0]), float(s[0, 1]), float(s[1, 1])
-        self.k = float(np.linalg.det(winv))
-        self.here = cells.ravel()
-        self.next = np.roll(cells, -1, axis=1).ravel()
-        self.prev = np.roll(cells, 1, axis=1).ravel()
-        self.n_points = n_points
-        self.n_cells = cells.shape[0]
-        self.per_cell = n
-        self.size_weight = size_weight
-        self.target = target
-        self.power = power
-        self.ids = np.concatenate([self.here, self.next, self.prev])
-
-    def __call__(self, x: np.ndarray, y: np.ndarray, want_gradient: bool):
-        """(Σ μ + weight · corners per cell · Σ size term, gradient (N, 2) or None)."""
-        ax, ay = x[self.next] - x[self.here], y[self.next] - y[self.here]
-        bx, by = x[self.prev] - x[self.here], y[self.prev] - y[self.here]
-        aa, bb, ab = ax * ax + ay * ay, bx * bx + by * by, ax * bx + ay * by
-        d = ax * by - ay * bx
-        if np.any(d <= _SIN_FLOOR * np.sqrt(aa * bb)):
-            return np.inf, None
-        f = self.s00 * aa + 2 * self.s01 * ab + self.s11 * bb
-        mu = f / (2 * self.k * d)
-        value = float(mu.sum()) if self.power == 1 else float(np.sum(mu**self.power))
-        area = None
-        if self.size_weight:
-            area = 0.5 * (x[self.here] * y[self.next] - x[self.next] * y[self.here])
-            area = area.reshape(self.n_cells, self.per_cell).sum(axis=1)
-            if np.any(area <= 0):
-                return np.inf, None
-            ratio = area / self.target
-            value += self._size_factor() * float(np.sum(ratio + 1 / ratio - 2))
-        if not want_gradient:
-            return value, None
-        scale = 1 / (2 * self.k * d * d)
-        if self.power != 1:
-            scale = scale * (self.power * mu ** (self.power - 1))
-        fa_x, fa_y = 2 * (self.s00 * ax + self.s01 * bx), 2 * (self.s00 * ay + self.s01 * by)
-        fb_x, fb_y = 2 * (self.s01 * ax + self.s11 * bx), 2 * (self.s01 * ay + self.s11 * by)
-        ga_x, ga_y = (fa_x * d - f * by) * scale, (fa_y * d + f * bx) * scale
-        gb_x, gb_y = (fb_x * d + f * ay) * scale, (fb_y * d - f * ax) * scale
-        gx = [-(ga_x + gb_x), ga_x, gb_x]
-        gy = [-(ga_y + gb_y), ga_y, gb_y]
-        if area is not None:
-            factor = self._size_factor() * (1 / self.target - self.target / area**2)
-            factor = np.repeat(factor, self.per_cell)
-            gx[0] = gx[0] + factor * 0.5 * (y[self.next] - y[self.prev])
-            gy[0] = gy[0] + factor * 0.5 * (x[self.prev] - x[self.next])
-        gradient = np.empty((self.n_points, 2))
-        gradient[:, 0] = np.bincount(self.ids, np.concatenate(gx), minlength=self.n_points)
-        gradient[:, 1] = np.bincount(self.ids, np.concatenate(gy), minlength=self.n_points)
-        return value, gradient
-
-    def _size_factor(self) -> float:
-        """The size term is weighted per corner, like the distortion."""
-        return self.size_weight * self.per_cell
+#: Node-placement rules of a refinement (the names of
+#: :data:`blockmesh.refinement.placement.PLACEMENTS`): the paper's; optimised node placement after
+#: every level with cell sizes made uniform ("optimized", for accuracy per unknown on evenly sized
+#: blocks); or after every level against the worst corners, each cell keeping about its size
+#: ("angles", for graded block layouts such as decomposed polygons).
+QUALITY_RULES = PLACEMENTS
 
 
 def shape_energy(mesh: Mesh) -> float:
@@ -172,75 +75,9 @@ def shape_energy(mesh: Mesh) -> float:
     >>> round(shape_energy(blockmesh.load_domain("sp").mesh(0)), 4)
     1.249
     """
-    energy = _Energy(mesh.cells, mesh.n_points, 0.0, 1.0)
+    energy = ShapeEnergy(mesh.cells, mesh.n_points, 0.0, 1.0)
     value, _ = energy(mesh.points[:, 0], mesh.points[:, 1], want_gradient=False)
     return value / mesh.cells.size
-
-
-def _boundary_freedom(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Nodes that slide (ids, unit directions) and the fixed boundary nodes."""
-    edges = mesh.boundary_edges
-    n = mesh.n_points
-    incoming = np.full(n, -1)
-    outgoing = np.full(n, -1)
-    incoming[edges[:, 1]] = np.arange(edges.shape[0])
-    outgoing[edges[:, 0]] = np.arange(edges.shape[0])
-    nodes = np.unique(edges)
-    before = edges[incoming[nodes], 0]
-    after = edges[outgoing[nodes], 1]
-    pts = mesh.points
-    t_in = pts[nodes] - pts[before]
-    t_out = pts[after] - pts[nodes]
-    cross = t_in[:, 0] * t_out[:, 1] - t_in[:, 1] * t_out[:, 0]
-    norms = np.hypot(*t_in.T) * np.hypot(*t_out.T)
-    straight = np.abs(cross) <= COLLINEAR_SIN_TOL * norms
-    same_patch = mesh.boundary_patch[incoming[nodes]] == mesh.boundary_patch[outgoing[nodes]]
-    slides = straight & same_patch
-    direction = t_out[slides] / np.hypot(*t_out[slides].T)[:, None]
-    if mesh.interface_edges.shape[0] == 0:
-        return nodes[slides], direction, nodes[~slides]
-    # Where an interface reaches the boundary the node stays (it is a corner of both regions).
-    meets = np.isin(nodes, mesh.interface_edges)
-    direction = direction[~meets[slides]]
-    slides &= ~meets
-    inner, inner_direction, inner_fixed = _interface_freedom(mesh, nodes)
-    return (
-        np.concatenate([nodes[slides], inner]),
-        np.concatenate([direction, inner_direction]),
-        np.concatenate([nodes[~slides], inner_fixed]),
-    )
-
-
-def _interface_freedom(
-    mesh: Mesh, boundary_nodes: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Interface nodes that slide along their straight interface, and the fixed ones.
-
-    A node inside a straight run of one interface slides along it; where an interface turns
-    (a chord of a curve), changes name, meets another or reaches the boundary, the node stays.
-    """
-    edges = mesh.interface_edges
-    ends = np.concatenate([edges, edges[:, ::-1]])
-    group = np.concatenate([mesh.interface_patch, mesh.interface_patch])
-    order = np.argsort(ends[:, 0], kind="stable")
-    ends, group = ends[order], group[order]
-    nodes, start, count = np.unique(ends[:, 0], return_index=True, return_counts=True)
-    two = count == 2
-    first, second = start[two], start[two] + 1
-    pts = mesh.points
-    t_in = pts[nodes[two]] - pts[ends[first, 1]]
-    t_out = pts[ends[second, 1]] - pts[nodes[two]]
-    cross = t_in[:, 0] * t_out[:, 1] - t_in[:, 1] * t_out[:, 0]
-    norms = np.hypot(*t_in.T) * np.hypot(*t_out.T)
-    slides = np.zeros(nodes.size, dtype=bool)
-    slides[two] = (
-        (np.abs(cross) <= COLLINEAR_SIN_TOL * norms)
-        & (group[first] == group[second])
-        & ~np.isin(nodes[two], boundary_nodes)
-    )
-    chosen = slides[two]
-    direction = t_out[chosen] / np.hypot(*t_out[chosen].T)[:, None]
-    return nodes[slides], direction, nodes[~slides]
 
 
 def _check_mesh(mesh: object) -> Mesh:
@@ -323,94 +160,50 @@ def optimize_nodes(
     (True, True)
     """
     mesh = _check_mesh(mesh)
-    iterations = whole_number(iterations, "iterations")
-    if not (isinstance(tol, int | float) and tol > 0):
-        raise ArgumentError(f"tol must be a number > 0, got {tol!r}")
-    if not (isinstance(size_weight, int | float) and size_weight >= 0):
-        raise ArgumentError(f"size_weight must be a number >= 0, got {size_weight!r}")
-    if not (isinstance(power, int | float) and power >= 1):
-        raise ArgumentError(f"power must be a number >= 1, got {power!r}")
-    choice(size_target, SIZE_TARGETS, "size target")
-    sliding, direction, fixed = _boundary_freedom(mesh)
-    free = np.ones(mesh.n_points, dtype=bool)
-    free[fixed] = False
-    free[sliding] = False
-    interior = np.flatnonzero(free)
-    origin = mesh.points.copy()
-    count = mesh.cells.size
-
-    def points_of(z: np.ndarray) -> np.ndarray:
-        xy = origin.copy()
-        xy[interior] += z[: 2 * interior.size].reshape(-1, 2)
-        xy[sliding] += z[2 * interior.size :, None] * direction
-        return xy
-
+    rule = ShapeOptimization(
+        size_weight=size_weight,
+        power=power,
+        size_target=size_target,
+        iterations=iterations,
+        tol=tol,
+    )
     target = mesh.cell_areas() if size_target == "cells" else mesh.area / mesh.n_cells
-    evaluate = _Energy(mesh.cells, mesh.n_points, float(size_weight), target, float(power))
-
-    def energy(z: np.ndarray, gradient: bool):
-        xy = points_of(z)
-        value, grad = evaluate(xy[:, 0], xy[:, 1], gradient)
-        if grad is None:
-            return value / count, None
-        g = np.concatenate(
-            [grad[interior].ravel(), np.einsum("nd,nd->n", grad[sliding], direction)]
-        )
-        return value / count, g / count
-
-    z = np.zeros(2 * interior.size + sliding.size)
-    start, _ = energy(z, False)
-    z, end, steps = _lbfgs(energy, z, iterations, tol)
-    better = mesh.with_points(points_of(z))
-    if not np.all(is_strictly_convex(better.points[better.cells])):
-        better = mesh  # the energy's barrier makes this unreachable; never return a bad mesh
-    if report:
-        return better, PlacementReport(start, end, steps, int(interior.size), int(sliding.size))
-    return better
+    freedom = Freedom.of_mesh(mesh)
+    points, info = optimize_points(
+        mesh.points,
+        mesh.cells,
+        freedom.fixed,
+        freedom.slide,
+        target=target,
+        size_weight=float(rule.size_weight),
+        power=float(rule.power),
+        iterations=rule.iterations,
+        tol=rule.tol,
+    )
+    better = mesh.with_points(points)
+    return (better, info) if report else better
 
 
-def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
-    """Limited-memory BFGS with backtracking (Armijo); infinite energies are rejected steps."""
-    value, gradient = energy(z, True)
-    history: list[tuple[np.ndarray, np.ndarray, float]] = []
-    done = 0
-    for done in range(1, iterations + 1):
-        q = gradient.copy()
-        alphas = []
-        for s, y, rho in reversed(history):
-            alpha = rho * (s @ q)
-            q -= alpha * y
-            alphas.append(alpha)
-        if history:
-            s, y, _ = history[-1]
-            q *= (s @ y) / (y @ y)
-        else:
-            q *= 1e-2 / max(float(np.abs(q).max()), 1e-300)
-        for (s, y, rho), alpha in zip(history, reversed(alphas), strict=True):
-            q += s * (alpha - rho * (y @ q))
-        step = -q
-        slope = float(gradient @ step)
-        if slope >= 0:
-            step, slope, history = -gradient, -float(gradient @ gradient), []
-        t = 1.0
-        while True:
-            trial, _ = energy(z + t * step, False)
-            if np.isfinite(trial) and trial <= value + 1e-4 * t * slope:
-                break
-            t *= 0.5
-            if t < 1e-12:
-                return z, value, done
-        z_new = z + t * step
-        value_new, gradient_new = energy(z_new, True)
-        s, y = z_new - z, gradient_new - gradient
-        if s @ y > 1e-300:
-            history.append((s, y, 1.0 / (s @ y)))
-            history = history[-memory:]
-        improvement = value - value_new
-        z, value, gradient = z_new, value_new, gradient_new
-        if improvement < tol:
-            break
-    return z, value, done
+#: Worst angles (degrees) this close to the best are a tie in :func:`inner_point_rule`. Candidates
+#: whose worst corner is one the inner points do not touch have the same worst angle computed
+#: from different points: equal but for rounding (3e-14 degrees apart was seen), so a plain
+#: maximum picked among them by that noise.
+ANGLE_TIE = 1e-9
+
+
+def _pick_fraction(fractions: np.ndarray, angles: np.ndarray) -> int | None:
+    """The index of the fraction :func:`inner_point_rule` takes, or None if no candidate is valid.
+
+    The largest worst angle wins; candidates within :data:`ANGLE_TIE` of it are a tie, won by the
+    fraction nearest the paper's 1/2, then by the smaller one. The choice depends on the set of
+    (fraction, angle) pairs only, not on their order or on rounding noise in equal angles.
+    """
+    valid = np.isfinite(angles)
+    if not valid.any():
+        return None
+    tied = np.flatnonzero(valid & (angles >= angles[valid].max() - ANGLE_TIE))
+    order = np.lexsort((fractions[tied], np.abs(fractions[tied] - 0.5)))
+    return int(tied[order[0]])
 
 
 def inner_point_rule(
@@ -418,9 +211,11 @@ def inner_point_rule(
 ) -> Mesh:
     """Refine level by level, each time with the inner points ``w = p + t (u - p)``.
 
-    ``t`` is chosen per level among ``fractions`` to maximise the worst angle of the new level
-    (``t = 1/2`` is the paper's rule). Nested (old nodes never move), conforming, and with the
-    paper's counts.
+    ``t`` is chosen per level among ``fractions`` (each in (0, 1)) to maximise the worst angle of
+    the new level (``t = 1/2`` is the paper's rule). Worst angles within :data:`ANGLE_TIE` degrees
+    of the best tie, and a tie goes to the fraction nearest 1/2 (then the smaller): the choice does
+    not depend on the order of ``fractions`` or on rounding. Nested (old nodes never move),
+    conforming, and with the paper's counts.
 
     Examples
     --------
@@ -431,25 +226,48 @@ def inner_point_rule(
     (216, True)
     """
     level = whole_number(level, "level")
+    ts = _check_fractions(fractions)
     mesh = refine(target, 0)
     for _ in range(level):
         child = refine(mesh, 1)
-        parents = mesh.cells
-        centre = mesh.points[parents].mean(axis=1)  # the paper's p, per parent
-        cells = child.cells.reshape(-1, 6, 5)
-        inner = cells[:, 5, :]  # w_1..w_5 of every parent
-        mids = cells[:, :5, 1]  # u_k is corner 1 of child k
-        best, best_angle = child, -np.inf
-        for t in fractions:
-            xy = child.points.copy()
-            moved = centre[:, None, :] + t * (child.points[mids] - centre[:, None, :])
-            xy[inner.ravel()] = moved.reshape(-1, 2)
-            trial = child.with_points(xy)
-            quality = trial.quality()
-            if quality.not_strictly_convex == 0 and quality.min_angle > best_angle:
-                best, best_angle = trial, quality.min_angle
-        mesh = best
+        centre = mesh.points[mesh.cells].mean(axis=1)  # the paper's p, per parent
+        angles = np.full(ts.size, -np.inf)  # one trial mesh at a time in memory
+        for k, t in enumerate(ts):
+            quality = _inner_points_at(child, centre, float(t)).quality()
+            if quality.not_strictly_convex == 0:
+                angles[k] = quality.min_angle
+        best = _pick_fraction(ts, angles)
+        mesh = child if best is None else _inner_points_at(child, centre, float(ts[best]))
     return mesh
+
+
+def _inner_points_at(child: Mesh, centre: np.ndarray, t: float) -> Mesh:
+    """``child`` (one level of the paper's refinement) with ``w = p + t (u - p)`` per parent."""
+    cells = child.cells.reshape(-1, 6, 5)
+    inner = cells[:, 5, :]  # w_1..w_5 of every parent
+    mids = cells[:, :5, 1]  # u_k is corner 1 of child k
+    xy = child.points.copy()
+    moved = centre[:, None, :] + t * (child.points[mids] - centre[:, None, :])
+    xy[inner.ravel()] = moved.reshape(-1, 2)
+    return child.with_points(xy)
+
+
+def _check_fractions(fractions: object) -> np.ndarray:
+    """``fractions`` as a float array, or a located error: a non-empty sequence in (0, 1)."""
+    try:
+        ts = np.array(fractions, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(
+            f"fractions must be a sequence of numbers, got {fractions!r}"
+        ) from None
+    if ts.ndim != 1 or ts.size == 0:
+        raise ArgumentError(f"fractions must be a non-empty sequence of numbers, got {fractions!r}")
+    outside = np.flatnonzero(~((ts > 0) & (ts < 1)))
+    if outside.size:
+        raise ArgumentError(
+            f"fractions must lie in (0, 1): fractions[{outside[0]}] = {float(ts[outside[0]])!r}"
+        )
+    return ts
 
 
 def refine_with_rule(
@@ -483,14 +301,10 @@ def refine_with_rule(
     (True, True)
     """
     choice(rule, QUALITY_RULES, "quality rule")
-    level = whole_number(level, "level")
-    if rule == "paper":
-        return refine(target, level, smooth=smooth, max_memory=max_memory)
-    mesh = refine(target, 0)
-    for _ in range(level):
-        refined = refine(mesh, 1, smooth=smooth, max_memory=max_memory)
-        if rule == "angles":
-            mesh = optimize_nodes(refined, iterations=iterations, power=4.0, size_target="cells")
-        else:
-            mesh = optimize_nodes(refined, iterations=iterations)
-    return mesh
+    return refine(
+        target,
+        level,
+        smooth=smooth,
+        placement=as_placement(rule, iterations=iterations),
+        max_memory=max_memory,
+    )

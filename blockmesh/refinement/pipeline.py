@@ -25,19 +25,27 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Protocol
+from typing import Any, Protocol, overload
 
 import numpy as np
 
 import blockmesh.refinement.grouped as grouped
 from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.checks import choice, whole_number
-from blockmesh.errors import ArgumentTypeError, ResourceError
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
 from blockmesh.refinement.interfaces import refined_interfaces
+from blockmesh.refinement.local import refine_locally
+from blockmesh.refinement.placement import (
+    LaplacianSmoothing,
+    PaperPlacement,
+    Placement,
+    as_placement,
+)
 from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
 from blockmesh.refinement.plan import place_level as _place_level
 from blockmesh.refinement.sizes import MeshSize, predict_size
@@ -61,39 +69,111 @@ class BlockSource(Protocol):
 
 
 # --------------------------------------------------------------------------- refinement
-def _block_mesh_of(target: BlockSource | Mesh) -> Mesh:
+def _block_mesh_of(target: BlockSource | Mesh | PolygonMesh) -> Mesh:
     if isinstance(target, Mesh):
         return target
-    if callable(getattr(target, "block_mesh", None)):
+    if not isinstance(target, PolygonMesh) and callable(getattr(target, "block_mesh", None)):
         return target.block_mesh()
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
+@overload
 def refine(
     domain_or_mesh: BlockSource | Mesh,
     level: int,
     *,
+    cells: None = None,
+    scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
+    placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
-) -> Mesh:
+) -> Mesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> Mesh | PolygonMesh:
     """Refine a domain (or a mesh) ``level`` times: every cell becomes 6**level pentagons.
+
+    With ``cells=``, only the marked cells are split (local refinement,
+    :mod:`blockmesh.refinement.local`): their new edge nodes become straight vertices (hanging
+    nodes, at most one per side) of their coarse neighbours, and the result is a
+    :class:`~blockmesh.mesh.polygons.PolygonMesh`.
 
     Parameters
     ----------
-    domain_or_mesh : Domain or Mesh
+    domain_or_mesh : Domain, Mesh or PolygonMesh
         A Domain is refined from its block mesh (level 0); a Mesh from its own cells, so
-        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)``.
+        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)``. A PolygonMesh is refined by the
+        local rule (every cell marked, unless ``cells`` says otherwise).
     level : int
         How many times each cell is split (>= 0). The result's ``level`` is the input's plus this.
+        With ``cells``, the rounds of local refinement (default 1).
+    cells : boolean mask, cell ids or callable, optional
+        The cells to split: a mask over the cells, their ids, or ``cells(mesh)`` returning
+        either (asked again on every round's mesh; ids and masks mark the children of the
+        marked cells in later rounds). A marking of no cell is an error.
+    scheme : {"pentagons", "quads"}
+        With ``cells``: how a marked cell is split (:data:`blockmesh.refinement.local.SCHEMES`):
+        the paper's six pentagons (its general-polygon form for other cells), or
+        quadrilaterals through the centre.
     numbering : {"nested", "rcm"}
         ``"nested"`` (default) is the paper's numbering: every node id of the previous level is
         kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
     smooth : int
         Laplacian sweeps per level (see :mod:`blockmesh.refinement.smoothing`); 0 keeps the paper's
-        exact scheme.
+        exact scheme. The same as ``placement=LaplacianSmoothing(smooth)``.
+    placement : str or Placement
+        Where the nodes of every new level go (:mod:`blockmesh.refinement.placement`):
+        ``"paper"`` (default, the paper's exact scheme), ``"optimized"``, ``"angles"``, or a
+        :class:`~blockmesh.refinement.placement.Placement`. Any but the paper's refines one level
+        at a time and places the nodes after each; cells, counts, patches and regions stay the
+        paper's.
     max_memory : int, optional
         Refuse to build a mesh needing more bytes than this (default: the memory available now).
     progress : callable, optional
@@ -117,10 +197,36 @@ def refine(
     >>> mesh = blockmesh.refine(blockmesh.load_domain("sp"), 1)
     >>> mesh.cells[0].tolist(), mesh.points[10].tolist()
     ([0, 5, 10, 14, 9], [0.0, -0.6])
+    >>> local = blockmesh.refine(mesh, cells=[0])
+    >>> local.n_cells, sorted(set(local.cell_sizes().tolist()))
+    (11, [5, 6])
     """
+    if cells is not None or isinstance(domain_or_mesh, PolygonMesh):
+        if not (isinstance(placement, str) and placement == "paper"):
+            raise ArgumentError(
+                f"placement={placement!r} applies to uniform refinement; local refinement "
+                "(cells=, or a PolygonMesh) places the nodes by the paper's rule"
+            )
+        return _refine_locally(
+            domain_or_mesh, level, cells, numbering, smooth, max_memory, progress, threads, scheme
+        )
+    if scheme != "pentagons":
+        raise ArgumentError(
+            f"scheme={scheme!r} applies to local refinement (cells=); uniform refinement is the "
+            "paper's"
+        )
+    if level is None:
+        raise ArgumentError("refine() needs a level (how many times to split every cell)")
     level = whole_number(level, "level")
     choice(numbering, NUMBERINGS, "numbering")
     smooth = whole_number(smooth, "smooth")
+    placement = as_placement(placement)
+    if isinstance(placement, LaplacianSmoothing):
+        if smooth not in (0, placement.sweeps):
+            raise ArgumentError(
+                f"smooth={smooth} and placement={placement!r} ask for two smoothings; give one"
+            )
+        smooth, placement = placement.sweeps, PaperPlacement()
     if max_memory is not None:
         max_memory = whole_number(max_memory, "max_memory", minimum=1)
     if threads is not None:
@@ -131,7 +237,10 @@ def refine(
     _check_memory(base, n_shared, level, max_memory)
     _check_precision(base, level)
     try:
-        mesh = _build(base, neighbour, level, smooth, progress, threads)
+        if placement.nested:
+            mesh = _build(base, neighbour, level, smooth, progress, threads)
+        else:
+            mesh = _build_placed(base, level, smooth, placement, progress, threads)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -140,6 +249,53 @@ def refine(
         ) from None
     if numbering == "rcm":
         mesh = mesh.with_rcm_numbering()
+    return mesh
+
+
+def _refine_locally(
+    target: BlockSource | Mesh | PolygonMesh,
+    level: int | None,
+    cells: Any,
+    numbering: str,
+    smooth: int,
+    max_memory: int | None,
+    progress: ProgressCallback | None,
+    threads: int | None,
+    scheme: str = "pentagons",
+) -> PolygonMesh:
+    """:func:`refine` with ``cells=``, or of a PolygonMesh: the local rule, round by round."""
+    rounds = 1 if level is None and cells is not None else level
+    if rounds is None:
+        raise ArgumentError("refine() of a PolygonMesh needs a level or cells=")
+    rounds = whole_number(rounds, "level")
+    choice(numbering, ("nested",), "numbering (local refinement keeps the nested numbering)")
+    if whole_number(smooth, "smooth"):
+        raise ArgumentError(
+            "smooth= applies to uniform refinement; local refinement keeps the paper's rule"
+        )
+    if threads is not None:
+        whole_number(threads, "threads", minimum=1)
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    mesh = target if isinstance(target, PolygonMesh) else _block_mesh_of(target)
+    if rounds == 0:
+        return as_polygon_mesh(mesh)
+    marking = cells if cells is not None else np.ones(mesh.n_cells, dtype=bool)
+    return refine_locally(
+        mesh, marking, rounds, max_memory=max_memory, progress=progress, scheme=scheme
+    )
+
+
+def _build_placed(
+    base: Mesh, level: int, smooth: int, placement: Placement, progress, threads: int | None
+) -> Mesh:
+    """One level at a time, the nodes of each new level placed by ``placement``."""
+    mesh = base
+    for step in range(level):
+        neighbour = cell_neighbours(mesh.cells, mesh.n_points)
+        mesh = placement.after_level(_build(mesh, neighbour, 1, smooth, None, threads))
+        if progress is not None:
+            progress(step + 1, level)
     return mesh
 
 
@@ -177,16 +333,16 @@ def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, 
     """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     edge_ids = edge_id_table(plan)
-    ids = group_node_ids(plan, 0, base.n_cells, edge_ids)
     template = pentagon_template(level)
+    ids = group_node_ids(plan, 0, base.n_cells, edge_ids, template=template)
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
     local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
     points = np.empty(plan.n_nodes, dtype=np.complex128)
-    fixed = block_edge_nodes(ids, level)
+    fixed = block_edge_nodes(ids, template)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
         _place_level(local, template.steps[step - 1], lo)
-        level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
+        level_cells = ids[:, template.cells_of_level(step)].reshape(-1, 5)
         points[ids[:, :hi]] = local[:, :hi]
         n_level = int(ids[:, :hi].max()) + 1
         xy = points.view(np.float64).reshape(-1, 2)
@@ -229,7 +385,7 @@ def _assemble(
         "points": refined.points,
         "cells": refined.cells,
         "block_id": refined.block_id,
-        "parent": refined.parent,
+        "parent": refined.parent if steps else base.parent,  # no step: the same cells
         "boundary_edges": boundary_edges,
         "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
         "region": refined.region,

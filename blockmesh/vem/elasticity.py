@@ -21,8 +21,8 @@ Examples
 >>> from blockmesh.vem import solve_elasticity
 >>> mesh = blockmesh.load_domain("square").mesh(1)
 >>> sol = solve_elasticity(mesh, young=1.0, poisson=0.3,  # uniaxial tension: exact
-...                        displacement={"left": "0, free", "bottom": "free, 0"},
-...                        traction={"right": "1, 0"})
+...                        dirichlet={"left": "0, free", "bottom": "free, 0"},
+...                        neumann={"right": "1, 0"})
 >>> bool(abs(sol.stress - [1.0, 0.0, 0.0]).max() < 1e-12)
 True
 >>> round(float(sol.displacement[:, 0].max()), 10)  # u_x = x / E at x = 1
@@ -38,10 +38,16 @@ from typing import Any
 
 import numpy as np
 
-from blockmesh.checks import choice
+from blockmesh.checks import choice, renamed_keywords
 from blockmesh.errors import ArgumentError, SolverError
-from blockmesh.vem.assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from blockmesh.vem.boundary import boundary_conditions
+from blockmesh.vem.assembly import (
+    SolveInfo,
+    assemble_matrix,
+    assemble_vector,
+    ordering_for,
+    solve_system,
+)
+from blockmesh.vem.boundary import ProblemData, boundary_conditions
 from blockmesh.vem.fields import (
     Field,
     RegionField,
@@ -120,6 +126,7 @@ class ElasticitySolution:
     material: np.ndarray
     _projections: tuple[Projections, ...]
     _order: int
+    _data: ProblemData | None = None
 
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
@@ -165,15 +172,16 @@ class ElasticitySolution:
         )
 
 
+@renamed_keywords(body_force="source", displacement="dirichlet", traction="neumann")
 def solve_elasticity(
     mesh: Any,
+    source: Any = (0.0, 0.0),
     *,
     young: float,
     poisson: float,
     plane: str = "stress",
-    body_force: Any = (0.0, 0.0),
-    displacement: Mapping[str, Any] | None = None,
-    traction: Mapping[str, Any] | None = None,
+    dirichlet: Mapping[str, Any] | None = None,
+    neumann: Mapping[str, Any] | None = None,
     constraint: str | None = None,
     order: int = 3,
     stabilization: str = "trace",
@@ -189,13 +197,16 @@ def solve_elasticity(
     young, poisson : float, or a mapping of region to a float
         Young's modulus E > 0 and Poisson's ratio ν in (-1, 0.5); per region on a composite
         domain (``{"steel": 200e3, "rubber": 10}``, ``"*"`` for the regions not named).
+    source : pair or str, or a mapping of region to one of those
+        The body force ``(f_x, f_y)`` per unit area (numbers, expressions, callables, or
+        ``"FX, FY"``); the role ``source`` has in :func:`~blockmesh.vem.solve_poisson` (earlier
+        name: ``body_force``).
     plane : {"stress", "strain"}
-    body_force : pair or str, or a mapping of region to one of those
-        ``(f_x, f_y)`` per unit area (numbers, expressions, callables, or ``"FX, FY"``).
-    displacement : mapping of patch name to a pair, optional
-        Prescribed ``(u_x, u_y)``; a component ``None`` or ``"free"`` is not prescribed.
-    traction : mapping of patch name to a pair, optional
-        ``σ n`` on those patches (force per unit length).
+    dirichlet : mapping of patch name to a pair, optional
+        Prescribed displacements ``(u_x, u_y)``; a component ``None`` or ``"free"`` is not
+        prescribed (earlier name: ``displacement``).
+    neumann : mapping of patch name to a pair, optional
+        Tractions ``σ n`` on those patches, force per unit length (earlier name: ``traction``).
     constraint : {"rigid"}, optional
         Remove the rigid motions the displacement conditions leave free (zero mean
         translation and rotation of the nodes); the loads must then balance.
@@ -214,11 +225,14 @@ def solve_elasticity(
         For a patch given both conditions; displacement conditions that leave a rigid motion
         free (without ``constraint="rigid"``); unbalanced loads on a free rigid motion; a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
     names = pm.region_names
-    cell_region = pm.cell_region()
+    cell_region = pm.region
     per_region = isinstance(young, Mapping) or isinstance(poisson, Mapping)
     if per_region:
         e_of = region_values(young, "Young's modulus", names)
@@ -235,11 +249,11 @@ def solve_elasticity(
     scale = check_scale(stabilization_scale)
     if constraint is not None and constraint != "rigid":
         raise ArgumentError(f"unknown constraint {constraint!r}; choose one of: rigid")
-    force = region_vector_field(body_force, "body force", names)
+    force = region_vector_field(source, "body force", names)
     bc = boundary_conditions(
         pm,
-        displacement,
-        traction,
+        dirichlet,
+        neumann,
         components=2,
         dirichlet_name="displacement",
         neumann_name="traction",
@@ -272,6 +286,7 @@ def solve_elasticity(
         tol=tol,
         constraints=constraints,
         near_nullspace=rigid,
+        ordering=ordering_for(pm.cell_level),
     )
     strain = np.empty((pm.n_cells, 3))
     for group, d, strain_map in zip(pm.groups, dofs, strains, strict=True):
@@ -295,6 +310,7 @@ def solve_elasticity(
         material,
         tuple(projs),
         order,
+        ProblemData(tuple(force), bc, recipe, scale),
     )
 
 

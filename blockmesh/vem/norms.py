@@ -133,7 +133,7 @@ def error_norms(
     regions ``region`` (C,).
     """
     sums = np.zeros(6)  # l2, h1, energy of the error; then of u
-    cell_region = mesh.cell_region()
+    cell_region = mesh.region
     for group, proj in zip(mesh.groups, projections, strict=True):
         per_cell = points_per_cell(group.size, order)
         group_region = cell_region[group.index]

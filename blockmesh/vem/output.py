@@ -84,7 +84,7 @@ def solution_fields(
             f"write_solution takes a PoissonSolution or ElasticitySolution, not "
             f"{type(solution).__name__}"
         )
-    cell["region"] = np.asarray(solution.mesh.cell_region(), dtype=np.int64)
+    cell["region"] = np.asarray(solution.mesh.region, dtype=np.int64)
     point.update(_node_labels(solution.mesh))
     for name, values in (extra_point_data or {}).items():
         array = np.asarray(values, dtype=np.float64)
@@ -104,11 +104,10 @@ def _node_labels(mesh: PolygonMesh) -> dict[str, np.ndarray]:
     for k in range(len(mesh.patch_names) - 1, -1, -1):  # the first patch wins at a corner
         patch[mesh.boundary_edges[mesh.boundary_patch == k]] = k
     out["patch"] = patch
-    source = mesh.source
-    if source is not None and source.interface_names:
+    if mesh.interface_names:
         interface = np.full(mesh.n_points, -1, dtype=np.int64)
-        for k in range(len(source.interface_names) - 1, -1, -1):
-            interface[source.interface_edges[source.interface_patch == k]] = k
+        for k in range(len(mesh.interface_names) - 1, -1, -1):
+            interface[mesh.interface_edges[mesh.interface_patch == k]] = k
         out["interface"] = interface
     return out
 

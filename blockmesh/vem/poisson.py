@@ -46,8 +46,14 @@ import numpy as np
 from scipy.sparse import csgraph
 
 from blockmesh.errors import ArgumentError, SolverError
-from blockmesh.vem.assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from blockmesh.vem.boundary import boundary_conditions
+from blockmesh.vem.assembly import (
+    SolveInfo,
+    assemble_matrix,
+    assemble_vector,
+    ordering_for,
+    solve_system,
+)
+from blockmesh.vem.boundary import ProblemData, boundary_conditions
 from blockmesh.vem.fields import Field, RegionField, region_field, region_vector_field
 from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
@@ -94,6 +100,7 @@ class PoissonSolution:
     _diffusion: Field | RegionField
     _reaction: Field | RegionField
     _order: int
+    _data: ProblemData | None = None
 
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
@@ -205,6 +212,9 @@ def solve_poisson(
         value, a problem without anything fixing the constant (no
         Dirichlet patch, no reaction, no constraint), incompatible pure Neumann data, or a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
@@ -218,7 +228,7 @@ def solve_poisson(
     kappa = region_field(diffusion, "diffusion", names)
     c = region_field(reaction, "reaction", names)
     bc = boundary_conditions(pm, dirichlet, neumann, components=1)
-    cell_region = pm.cell_region()
+    cell_region = pm.region
 
     dofs, stiffness, load, means, projs = [], [], [], [], []
     for group in pm.groups:
@@ -237,7 +247,14 @@ def solve_poisson(
     fixed, values = bc.fixed(pm)
     constraints = _constraints(pm, matrix, fixed, c, constraint, rhs, dofs, means)
     u, info = solve_system(
-        matrix, rhs, fixed, values, solver=solver, tol=tol, constraints=constraints
+        matrix,
+        rhs,
+        fixed,
+        values,
+        solver=solver,
+        tol=tol,
+        constraints=constraints,
+        ordering=ordering_for(pm.cell_level),
     )
     gradient = np.empty((pm.n_cells, 2))
     value = np.empty(pm.n_cells)
@@ -258,6 +275,7 @@ def solve_poisson(
         kappa,
         c,
         order,
+        ProblemData((f,), bc, recipe, scale),
     )
 
 

@@ -158,7 +158,7 @@ def test_bimaterial_elasticity_patch_test():
         f"+ {nu['top']}*max(y - 2, 0))"
     )
     displacement.update({"left": side, "right": side})
-    sol = solve_elasticity(mesh, young=young, poisson=nu, displacement=displacement)
+    sol = solve_elasticity(mesh, young=young, poisson=nu, dirichlet=displacement)
     errors = sol.errors(exact)
     assert errors.l2 < 1e-15 and errors.h1 < 1e-12
     for k, name in enumerate(mesh.region_names):

@@ -36,7 +36,19 @@ from blockmesh.io.common import mesh_from_arrays
 from blockmesh.io.text import TextReader, parse_numbers
 from blockmesh.mesh.mesh import Mesh
 
-__all__ = ["foam_file", "read_boundary", "read_faces", "read_list", "read_openfoam"]
+__all__ = [
+    "FaceSizeError",
+    "foam_file",
+    "read_boundary",
+    "read_faces",
+    "read_list",
+    "read_openfoam",
+]
+
+
+class FaceSizeError(ExportError):
+    """Faces of a range that are not all of the size asked for (e.g. polygons, not pentagons)."""
+
 
 _INT32 = np.iinfo(np.int32).max
 _CHUNK = 1 << 18
@@ -113,7 +125,7 @@ _UNIFORM = re.compile(rb"^(\d+)\s*\{(.*)\}\s*;?$")
 def read_list(
     r: TextReader, cols: int, dtype: type, *, skip: int = 0, out_dtype: type | None = None
 ) -> tuple[int, np.ndarray]:
-    """The count and the rows ``skip..`` of the next list ``N ( ... )`` (one item a line).
+    """The count and the rows from ``skip`` on of the next list ``N ( items )`` (one item a line).
 
     Items ``(x y z)`` and ``4(a b c d)`` are read as plain numbers (the parentheses are blanks).
     Short lists written on one line (``3(0 1 2)``) and uniform lists (``3{7}``) are read too.
@@ -194,7 +206,7 @@ def read_boundary(poly: Path) -> list[dict[str, str]]:
 
 
 def read_faces(poly: Path, ranges: list[tuple[int, int, int]]) -> list[np.ndarray]:
-    """The faces ``start .. start + count - 1`` of ``poly/faces``, each of ``size`` nodes.
+    """The faces ``start`` to ``start + count - 1`` of ``poly/faces``, each of ``size`` nodes.
 
     ``ranges`` are ``(start, count, size)``, in increasing order of ``start``; returns one
     ``(count, size)`` array of node ids each. Faces before and between are skipped, not parsed.
@@ -217,11 +229,11 @@ def read_faces(poly: Path, ranges: list[tuple[int, int, int]]) -> list[np.ndarra
                     n, 1 + size, np.int64, np.int32 if count <= _INT32 else np.int64, blank=b"()"
                 )
             except ExportError:
-                raise ExportError(
+                raise FaceSizeError(
                     f"{r.where}: faces {start}..{start + n - 1} are not all of {size} nodes"
                 ) from None
             if np.any(rows[:, 0] != size):
-                raise ExportError(
+                raise FaceSizeError(
                     f"{r.where}: faces {start}..{start + n - 1} are not all of {size} nodes"
                 )
             out.append(rows[:, 1:])
@@ -328,6 +340,10 @@ def _find_polymesh(path: Path) -> Path:
 
 def read_openfoam(path: Path) -> Mesh:
     """Read a one-layer extruded polyMesh (as :func:`write_openfoam` writes) back to pentagons.
+
+    Raises :class:`FaceSizeError` when the front and back faces are not all pentagons;
+    :func:`blockmesh.io.openfoam.polygons.read_openfoam` (what :func:`blockmesh.read` uses) then
+    reads the case as a PolygonMesh.
 
     ``path`` is the case, its ``constant`` directory or the ``polyMesh`` directory. ASCII files
     (optionally gzipped) only. O(F) in the number of faces; the internal faces are skipped.
