@@ -408,7 +408,8 @@ def run(args: argparse.Namespace) -> int:
         "domain": domain.name,
         "equation": args.equation,
         "level": mesh.level,
-        "quality_rule": args.quality_rule,
+        "placement": args.quality_rule,
+        "quality_rule": args.quality_rule,  # the earlier key, kept
         "cells": mesh.n_cells,
         "nodes": mesh.n_points,
         "dof": info.dof,
