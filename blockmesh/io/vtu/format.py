@@ -500,7 +500,7 @@ def read_vtu(path: Path) -> Mesh | PolygonMesh:
 
 FORMAT = Format(
     name="vtu",
-    description="VTK unstructured grid (ParaView): polygons + boundary lines, via meshio",
+    description="VTK unstructured grid (ParaView): polygons + boundary lines",
     extensions=(".vtu",),
     writer=write_vtu,
     reader=read_vtu,
