@@ -239,11 +239,11 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
     """Draw the cells (shaded by block or region), the patches, and numbers when few enough.
 
     ``labels=None`` numbers nodes (blue) and cells (black) when there are at most
-    ``LABEL_LIMIT`` cells. A mesh with more than one region colours each region, outlines the
-    blocks, draws its interfaces dark and lists the regions in a legend. A mesh of more than
-    ``DRAW_LIMIT`` cells is drawn as its cell density (cells per unit area, a colour picture of
-    ``DENSITY_PIXELS`` across) with the block outlines, the patches and the interfaces, and the
-    title says so; that takes about a second per few million cells.
+    ``LABEL_LIMIT`` cells. A mesh with more than one region colours each region, lists the
+    regions in a legend and draws its interfaces dark (without interfaces: the block outlines).
+    A mesh of more than ``DRAW_LIMIT`` cells is drawn as its cell density (cells per unit area,
+    a colour picture of ``DENSITY_PIXELS`` across) with the block outlines, the patches and the
+    interfaces, and the title says so; that takes about a second per few million cells.
     """
     return save_figure(mesh_figure(mesh, labels=labels), path)
 
@@ -276,12 +276,13 @@ def mesh_figure(mesh, *, labels: bool | None = None):
     if regions.size > 1:
         from matplotlib.patches import Patch
 
-        if int(mesh.block_id.max(initial=0)) > int(mesh.block_id.min(initial=0)):
+        # The block outlines show where regions of explicit blocks meet; a composite domain's
+        # interfaces show that themselves (drawn below), and its thousands of blocks would
+        # hide the cells.
+        several = int(mesh.block_id.max(initial=0)) > int(mesh.block_id.min(initial=0))
+        if several and mesh.interface_edges.shape[0] == 0:
             outline = mesh.points[_block_interfaces(mesh)]
-            dark = mesh.interface_edges.shape[0] == 0  # else the interfaces are the dark lines
-            ax.add_collection(
-                LineCollection(outline, colors="0.1" if dark else "0.45", linewidths=1.2)
-            )
+            ax.add_collection(LineCollection(outline, colors="0.1", linewidths=1.2))
         handles = [
             Patch(facecolor=palette(k % palette.N), edgecolor="0.25", label=mesh.region_names[k])
             for k in regions.tolist()

@@ -21,7 +21,7 @@ from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError
 from blockmesh.geometry.topology import cell_neighbours, connected_pieces, graph_components
-from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.mesh import Mesh, interface_summary
 from blockmesh.mesh.polygons import PolygonMesh
 
 
@@ -111,6 +111,7 @@ def polygon_report(mesh: PolygonMesh) -> dict:
             name: int(np.count_nonzero(mesh.region == k))
             for k, name in enumerate(mesh.region_names)
         },
+        "interfaces": interface_summary(mesh),
         "convex_counter_clockwise": mesh.n_cells - quality.not_strictly_convex,
         "min_angle": quality.min_angle,
         "max_angle": quality.max_angle,
@@ -140,6 +141,7 @@ def _report_polygons(mesh: PolygonMesh, args: argparse.Namespace, caught: list[s
         print(f"    patch {printable(patch)}: {count:,} edges")
     for region, count in r["regions"].items():
         print(f"    region {printable(region)}: {count:,} cells")
+    _print_interfaces(r["interfaces"])
     print(
         f"  convex and counter-clockwise cells {r['convex_counter_clockwise']:,}/{r['cells']:,} "
         "(hanging nodes are straight vertices)"
@@ -196,6 +198,16 @@ def domain_of_mesh(mesh: Mesh) -> Domain:
     )
 
 
+def _print_interfaces(interfaces: dict) -> None:
+    for interface, info in interfaces.items():
+        count = info["edges"]
+        first, second = info["between"]
+        print(
+            f"    interface {printable(interface)}: {count:,} edge{'s' if count != 1 else ''} "
+            f"between {printable(first)} and {printable(second)} (internal)"
+        )
+
+
 def _print_certificate(c: dict) -> None:
     print(f"domain {printable(c['domain'])}: valid ({c['layout']})")
     print(f"  blocks {c['blocks']}, vertices {c['vertices']}, area {c['area']:.12g}")
@@ -207,13 +219,7 @@ def _print_certificate(c: dict) -> None:
         more = f" ... ({len(blocks):,} in all)" if len(blocks) > _LISTED else ""
         area = c["region_areas"][region]
         print(f"    region {region} (area {area:.12g}): blocks {listed}{more}")
-    for interface, info in c["interfaces"].items():
-        count = info["edges"]
-        first, second = info["between"]
-        print(
-            f"    interface {interface}: {count} edge{'s' if count != 1 else ''} between "
-            f"{first} and {second} (internal)"
-        )
+    _print_interfaces(c["interfaces"])
     pieces = c["connected_components"]
     separate = " (separate parts: the mesh is not connected)" if pieces > 1 else ""
     print(

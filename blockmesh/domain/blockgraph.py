@@ -22,6 +22,7 @@ import networkx as nx
 import numpy as np
 
 from blockmesh.geometry.topology import connected_pieces, count_loops
+from blockmesh.mesh.mesh import interface_summary
 
 __all__ = ["block_graph", "certificate"]
 
@@ -131,15 +132,6 @@ def certificate(domain) -> dict[str, Any]:
 
 def _interfaces(domain) -> dict[str, dict[str, Any]]:
     """Each interface's edge count and the regions on its two sides (first side first)."""
-    out: dict[str, dict[str, Any]] = {}
     if not domain.interface_names:
-        return out
-    cells = domain.block_mesh().interface_cells()
-    for k, name in enumerate(domain.interface_names):
-        mine = cells[domain.interface_patch == k]
-        sides = [
-            sorted({domain.region_names[r] for r in domain.region[mine[:, j]].tolist()})
-            for j in (0, 1)
-        ]
-        out[name] = {"edges": int(mine.shape[0]), "between": [", ".join(s) for s in sides]}
-    return out
+        return {}
+    return interface_summary(domain.block_mesh())

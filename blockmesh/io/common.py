@@ -37,6 +37,7 @@ __all__ = [
     "curves_from_arrays",
     "decode_metadata",
     "encode_metadata",
+    "interface_arrays",
     "line_arrays",
     "mesh_from_arrays",
     "name_lookup",
@@ -421,7 +422,7 @@ def mesh_from_arrays(
         )
     if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
-    interfaces = _interface_arrays(interface_edges, interface_patch, interface_names, n, where)
+    interfaces = interface_arrays(interface_edges, interface_patch, interface_names, n, where)
     try:
         mesh = Mesh(
             points=_read_only(points),
@@ -445,14 +446,18 @@ def mesh_from_arrays(
     return mesh
 
 
-def _interface_arrays(
+def interface_arrays(
     edges: np.ndarray | None,
     patch: np.ndarray | None,
     names: tuple[str, ...] | list[str] | None,
     n: int,
     where: str,
 ) -> dict[str, Any]:
-    """The interface arguments of a Mesh, checked (none when the file has none)."""
+    """The interface arguments of a Mesh or PolygonMesh, checked (none when the file has none).
+
+    ``names`` default to ``interface_0``, ``interface_1``, ...; an ExportError naming ``where``
+    for indices or node ids out of range.
+    """
     if edges is None or np.size(edges) == 0:
         return {}
     edges = np.asarray(edges).reshape(-1, 2)

@@ -24,6 +24,7 @@ import numpy as np
 
 from blockmesh.errors import BlockMeshError, ExportError
 from blockmesh.geometry.topology import PolygonCells, boundary_of_cells
+from blockmesh.io.common import interface_arrays
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
@@ -92,13 +93,16 @@ def polygon_mesh_from_arrays(
     cell_level: Any = None,
     level: int = 0,
     name: str = "",
+    interface_edges: Any = None,
+    interface_patch: Any = None,
+    interface_names: Any = None,
 ) -> PolygonMesh:
     """A :class:`PolygonMesh` from a file's arrays, with the defaults of ``mesh_from_arrays``.
 
     Missing block ids are 0, parents -1, regions the one region ``"domain"``, cell levels the
-    mesh's level; missing boundary edges are found from the cells (one patch ``"boundary"``).
-    Everything is checked (PolygonMesh's constructor); a failure is an ExportError naming
-    ``where``.
+    mesh's level; missing boundary edges are found from the cells (one patch ``"boundary"``);
+    missing interfaces are none. Everything is checked (PolygonMesh's constructor, every
+    interface edge an edge of two cells); a failure is an ExportError naming ``where``.
     """
     points = np.asarray(points)
     if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
@@ -133,6 +137,7 @@ def polygon_mesh_from_arrays(
     if patch_names is None:
         patch_names = tuple(f"patch_{k}" for k in range(int(patch.max(initial=-1)) + 1))
     levels = _column(cell_level, m, "cell_level", where)
+    interfaces = interface_arrays(interface_edges, interface_patch, interface_names, n, where)
     try:
         return PolygonMesh(
             points=points,
@@ -148,6 +153,7 @@ def polygon_mesh_from_arrays(
             cell_level=_default(levels, np.full(m, int(level), np.int64)),
             level=int(level),
             name=str(name),
+            **interfaces,
         )
     except (BlockMeshError, TypeError, ValueError) as error:
         raise ExportError(f"{where} does not hold a valid mesh: {error}") from None

@@ -27,7 +27,7 @@ from blockmesh.errors import ArgumentError, ArgumentTypeError, DomainError, Unkn
 from blockmesh.geometry.topology import PolygonCells, boundary_of_cells, check_boundary
 from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas, widest_id_spread
 
-__all__ = ["Mesh", "MeshQuality"]
+__all__ = ["Mesh", "MeshQuality", "interface_summary"]
 
 
 #: The interfaces of a mesh that has none.
@@ -724,6 +724,32 @@ class Mesh:
             + self.interface_edges.nbytes
             + self.interface_patch.nbytes
         )
+
+
+def interface_summary(mesh: Any) -> dict[str, dict[str, Any]]:
+    """Each interface of ``mesh`` (a Mesh or PolygonMesh): its edges and the regions beside it.
+
+    ``{name: {"edges": count, "between": [first side's regions, second side's]}}``, the regions
+    of the cells on the left and on the right of its edges (one each on a composite domain).
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> mesh = blockmesh.load_domain("layered-plate").mesh(1)
+    >>> interface_summary(mesh)["core|top"]
+    {'edges': 24, 'between': ['core', 'top']}
+    """
+    out: dict[str, dict[str, Any]] = {}
+    if not mesh.interface_names:
+        return out
+    cells = mesh.interface_cells()
+    for k, name in enumerate(mesh.interface_names):
+        mine = cells[mesh.interface_patch == k]
+        sides = [
+            sorted({mesh.region_names[r] for r in mesh.region[mine[:, j]].tolist()}) for j in (0, 1)
+        ]
+        out[name] = {"edges": int(mine.shape[0]), "between": [", ".join(s) for s in sides]}
+    return out
 
 
 def _edge_cells(cells: np.ndarray | PolygonCells, edges: np.ndarray, n_points: int) -> np.ndarray:

@@ -773,9 +773,10 @@ class PolygonMesh:
         bad_vertex = ~(left | straight)
         bad = np.bincount(owner, bad_vertex, minlength=self.n_cells) > 0
         corners = np.bincount(owner, corner, minlength=self.n_cells)
-        turning = np.bincount(
-            owner, np.where(straight, 0.0, 180.0 - angles), minlength=self.n_cells
-        )
+        # Every vertex's turn counts: a straight vertex on a straight side turns by nothing, one
+        # on a curve (a node a finer neighbour put on a curved interface) by the curve's bend,
+        # to the left or, on the curve's concave side, to the right.
+        turning = np.bincount(owner, 180.0 - angles, minlength=self.n_cells)
         bad |= corners < 3
         bad |= ~np.isclose(turning, 360.0, atol=1e-6)
         areas = self.cell_areas()

@@ -560,6 +560,11 @@ def _split(
     boundary_edges, boundary_patch = _split_boundary(
         mesh.boundary_edges, mesh.boundary_patch, keys_sorted, mid_id_of_key, n_total
     )
+    # Interface edges likewise: a split one is two interface edges, its direction (the first
+    # region on the left) kept.
+    interface_edges, interface_patch = _split_boundary(
+        mesh.interface_edges, mesh.interface_patch, keys_sorted, mid_id_of_key, n_total
+    )
     new_curves = None
     if has_curves:
         new_curves = _split_curves(curves, keys_sorted, mid_id_of_key, n_total)
@@ -578,6 +583,9 @@ def _split(
         level=mesh.level + 1,
         name=mesh.name,
         curves=new_curves,
+        interface_edges=interface_edges,
+        interface_patch=interface_patch,
+        interface_names=mesh.interface_names,
     )
     if has_curves:
         _check_folds(mesh, out, marked_ids, out_start)
@@ -640,6 +648,10 @@ def _curved_centres(
 def _split_boundary(
     edges: np.ndarray, patch: np.ndarray, keys: np.ndarray, mids: np.ndarray, n: int
 ) -> tuple[np.ndarray, np.ndarray]:
+    """Directed edges (boundary or interface) with every split one replaced by its two halves.
+
+    The halves keep the edge's direction and its ``patch`` entry, in place of the edge.
+    """
     if keys.size == 0 or edges.size == 0:
         return edges, patch
     key = edge_keys(edges[:, 0], edges[:, 1], n)

@@ -131,3 +131,27 @@ def test_cli_errors_are_located_and_write_nothing(capsys, tmp_path):
     out = tmp_path / "out.vtu"
     code, _, stderr = run_cli(capsys, "mesh", str(bad), "--level", "1", "-o", str(out))
     assert code != 0 and "touch at the single point (1, 1)" in stderr and not out.exists()
+
+
+def test_patch_options_on_a_composite_file_are_refused_naming_why(capsys, tmp_path):
+    # --patch names edges of one outline; a composite file names its parts' patches itself.
+    path = tmp_path / "two.wkt"
+    path.write_text("MULTIPOLYGON (((0 0, 1 0, 1 1, 0 1, 0 0)), ((1 0, 2 0, 2 1, 1 1, 1 0)))\n")
+    code, _, err = run_cli(capsys, "check", str(path), "--patch", "inlet=0")
+    assert code != 0
+    assert "patches name edges of one polygon outline" in err and "of 2 parts" in err
+    assert not list(tmp_path.glob("*.vtu"))
+
+
+def test_a_part_names_its_edges_by_the_way_they_face():
+    # The direction words of the polygon form (left, right, top, bottom) work in a part too.
+    d = Domain.compose(
+        {
+            "a": {"polygon": [[0, 0], [1, 0], [1, 1], [0, 1]], "patches": {"inlet": ["left"]}},
+            "b": {"polygon": [[1, 0], [2, 0], [2, 1], [1, 1]], "patches": {"outlet": ["right"]}},
+        }
+    )
+    assert d.patch_names[:2] == ("inlet", "outlet")
+    for name, x in (("inlet", 0.0), ("outlet", 2.0)):
+        edges = d.vertices[d.boundary_edges[d.boundary_patch == d.patch_names.index(name)]]
+        assert edges.size and (edges[..., 0] == x).all()

@@ -147,3 +147,27 @@ def test_pictures(composites, tmp_path):
 
     assert plot_domain(composites["fibre-cell"], tmp_path / "d.png").stat().st_size > 0
     assert plot_mesh(composites["inclusion"].mesh(1), tmp_path / "m.png").stat().st_size > 0
+
+
+def test_mesh_picture_shades_regions_and_draws_the_interfaces(composites):
+    from matplotlib.collections import LineCollection
+    from matplotlib.colors import to_hex
+
+    from blockmesh.plot import mesh_figure, pyplot
+
+    mesh = composites["inclusion"].mesh(1)
+    fig = mesh_figure(mesh)
+    try:
+        ax = fig.axes[0]
+        faces = [to_hex(c) for c in ax.collections[0].get_facecolors()]
+        by_region = [{faces[c] for c in np.flatnonzero(mesh.region == r)} for r in range(2)]
+        assert all(len(colours) == 1 for colours in by_region) and by_region[0] != by_region[1]
+        lines = {c.get_label(): c for c in ax.collections if isinstance(c, LineCollection)}
+        drawn = np.asarray(lines["interfaces"].get_segments())
+        assert np.array_equal(drawn, mesh.points[mesh.interface_edges])
+        # the interfaces are the dark lines: no block outlines beside them
+        assert set(lines) == {"interfaces", *mesh.patch_names}
+        texts = {t.get_text() for legend in fig.legends for t in legend.get_texts()}
+        assert texts == set(mesh.region_names)
+    finally:
+        pyplot().close(fig)

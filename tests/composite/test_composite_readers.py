@@ -2,7 +2,9 @@
 
 OpenFOAM's checkMesh lists the cellZones and faceZones; ParaView's own reader (pvpython) shows
 the region and interface names and the interface lines of the .vtu; the gmsh API lists the
-physical groups of the .msh; meshio reads the .vtu and the .msh.
+physical groups of the .msh; meshio reads the .vtu and the .msh. Each for the pentagon mesh of
+a composite domain and for a locally refined polygon mesh of it (hanging nodes on the
+interfaces).
 """
 
 from __future__ import annotations
@@ -18,13 +20,28 @@ from helpers_io import find_checkmesh, run_pvpython
 
 import blockmesh
 import blockmesh.io as bio
+from blockmesh.mesh.polygons import PolygonMesh
 
 CHECKMESH = find_checkmesh()
 
 
-@pytest.fixture(scope="module")
-def mesh() -> blockmesh.Mesh:
-    return blockmesh.load_domain("layered-plate").mesh(1)
+@pytest.fixture(scope="module", params=["pentagons", "polygons"])
+def mesh(request) -> blockmesh.Mesh | PolygonMesh:
+    pentagons = blockmesh.load_domain("layered-plate").mesh(1)
+    if request.param == "pentagons":
+        return pentagons
+    near = np.unique(pentagons.interface_cells()[::3].ravel())
+    refined = blockmesh.refine(PolygonMesh.from_mesh(pentagons), cells=near)
+    assert refined.hanging_nodes().size
+    return refined
+
+
+def _edges(mesh, name: str) -> int:
+    return len(mesh.interfaces[name])
+
+
+def _cells(mesh, region: str) -> int:
+    return int(np.count_nonzero(mesh.region == mesh.region_names.index(region)))
 
 
 @pytest.mark.skipif(CHECKMESH is None, reason="OpenFOAM checkMesh is not installed")
@@ -38,10 +55,12 @@ def test_checkmesh_lists_cell_and_face_zones(tmp_path, mesh):
     out = run.stdout + run.stderr
     assert run.returncode == 0 and "Mesh OK." in out, out
     assert re.search(r"face zones:\s+2", out) and re.search(r"cell zones:\s+3", out), out
-    for zone in ("bottom_core", "core_top"):  # 24 faces each, an open singly connected sheet
-        assert re.search(rf"{zone}\s+24\s+\d+\s+ok \(non-closed singly connected\)", out), out
+    for zone, name in (("bottom_core", "bottom|core"), ("core_top", "core|top")):
+        faces = _edges(mesh, name)  # an open singly connected sheet of faces
+        pattern = rf"{zone}\s+{faces}\s+\d+\s+ok \(non-closed singly connected\)"
+        assert re.search(pattern, out), out
     for zone in ("bottom", "core", "top"):
-        assert re.search(rf"^\s+{zone}\s+288\s", out, re.M), out
+        assert re.search(rf"^\s+{zone}\s+{_cells(mesh, zone)}\s", out, re.M), out
 
 
 PARAVIEW = """
@@ -78,7 +97,11 @@ def test_paraview_shows_region_names_and_interface_lines(tmp_path, mesh):
         "interface:bottom|core": 0, "interface:core|top": 1,
     }  # fmt: skip
     counts = {int(line.split()[1]): int(line.split()[-1]) for line in lines if "LINES" in line}
-    assert counts == {-1: mesh.boundary_edges.shape[0], 0: 24, 1: 24}
+    assert counts == {
+        -1: mesh.boundary_edges.shape[0],
+        0: _edges(mesh, "bottom|core"),
+        1: _edges(mesh, "core|top"),
+    }
 
 
 def test_gmsh_lists_the_physical_groups(tmp_path, mesh):
@@ -108,7 +131,10 @@ def test_gmsh_lists_the_physical_groups(tmp_path, mesh):
         "bottom|core",
         "core|top",
     }
-    assert lines["bottom|core"] == 24 and lines["core|top"] == 24  # tri5 keeps the edges
+    # tri5 keeps the edges
+    assert lines == {name: len(edges) for name, edges in mesh.interfaces.items()} | {
+        name: len(mesh.patch_edges(name)) for name in mesh.patch_names
+    }
 
 
 def test_meshio_reads_vtu_and_msh(tmp_path, mesh):
@@ -116,8 +142,8 @@ def test_meshio_reads_vtu_and_msh(tmp_path, mesh):
     interface = np.concatenate(vtu.cell_data["interface"])
     assert Counter(interface.tolist()) == {
         -1: mesh.n_cells + mesh.boundary_edges.shape[0],
-        0: 24,
-        1: 24,
+        0: _edges(mesh, "bottom|core"),
+        1: _edges(mesh, "core|top"),
     }
     msh = meshio.read(bio.write(mesh, tmp_path / "plate.msh"))
     assert {"bottom|core", "core|top", "bottom", "core", "top"} <= set(msh.field_data)

@@ -385,44 +385,27 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
         parts = [np.asarray(struct[0, 0][f], dtype=np.float64).reshape(-1, 2) for f in fields]
         edges = (np.concatenate(parts) if parts else np.empty((0, 2))).astype(np.int64) - 1
         patch = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
-    interfaces = _interfaces(data, where)
     level = int(np.asarray(data["Level"]).ravel()[0]) if "Level" in data else 0
-    name = _strings(data["Name"])[0] if "Name" in data and data["Name"].size else ""
+    common: dict[str, Any] = {
+        "where": where,
+        "block_id": column("BlockId", 1),
+        "parent": column("Parent", 1),
+        "region": column("Region", 1),
+        "region_names": region_names,
+        "boundary_edges": edges,
+        "boundary_patch": patch,
+        "patch_names": patch_names,
+        "level": level,
+        "name": _strings(data["Name"])[0] if "Name" in data and data["Name"].size else "",
+        **_interfaces(data, where),
+    }
+    points = np.asarray(data["Node"], dtype=np.float64)
     if polygons:
         return polygon_mesh_from_arrays(
-            np.asarray(data["Node"], dtype=np.float64),
-            offsets,
-            nodes,
-            where=where,
-            block_id=column("BlockId", 1),
-            parent=column("Parent", 1),
-            region=column("Region", 1),
-            region_names=region_names,
-            boundary_edges=edges,
-            boundary_patch=patch,
-            patch_names=patch_names,
-            cell_level=column("CellLevel", 0),
-            level=level,
-            name=name,
+            points, offsets, nodes, cell_level=column("CellLevel", 0), **common
         )
-    return mesh_from_arrays(
-        np.asarray(data["Node"], dtype=np.float64),
-        cells,
-        where=where,
-        block_id=column("BlockId", 1),
-        parent=column("Parent", 1),
-        region=column("Region", 1),
-        region_names=region_names,
-        boundary_edges=edges,
-        boundary_patch=patch,
-        patch_names=patch_names,
-        level=level,
-        name=name,
-        **interfaces,
-        dropped_curves=int(np.asarray(data["CurvedEdges"]).ravel()[0])
-        if "CurvedEdges" in data
-        else 0,
-    )
+    dropped = int(np.asarray(data["CurvedEdges"]).ravel()[0]) if "CurvedEdges" in data else 0
+    return mesh_from_arrays(points, cells, dropped_curves=dropped, **common)
 
 
 def _interfaces(data: dict, where: str) -> dict[str, Any]:

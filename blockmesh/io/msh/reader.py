@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from blockmesh.errors import ExportError
-from blockmesh.geometry.topology import boundary_of_cells, edge_keys
+from blockmesh.geometry.topology import PolygonCells, boundary_of_cells, edge_keys
 from blockmesh.io.common import decode_metadata, mesh_from_arrays
 from blockmesh.io.msh.writer import ELEMENT_NODES
 from blockmesh.io.pentagons import join_lines, merge_elements, merge_polygons
@@ -373,10 +373,12 @@ def _polygon_arrays(f: _File, where: str) -> dict[str, Any]:
     lines = f.to_index(line_nodes, "boundary lines", where)
     line_entity = f.lines.entity(np.arange(lines.shape[0]))
     region_of_tag, region_names = _groups(f, 2, meta.get("region_names"))
-    patch_of_tag, patch_names = _groups(f, 1, meta.get("patch_names"))
+    patch_of_tag, patch_names = _groups(f, 1, _line_names(meta))
     element = first if order is None else order[first]
     entity_of_cell = f.surface.entity(element)
     columns: dict[str, Any] = {name: values[element] for name, values in views.items()}
+    patch = _lookup(f, line_entity, 1, patch_of_tag, where)
+    cells = PolygonCells(offsets, cell_nodes)
     return {
         "points": np.array(f.coords[:n_points]),
         "offsets": offsets,
@@ -384,9 +386,7 @@ def _polygon_arrays(f: _File, where: str) -> dict[str, Any]:
         "block_id": _block_ids(meta, entity_of_cell, where),
         "region": _lookup(f, entity_of_cell, 2, region_of_tag, where),
         "region_names": region_names,
-        "boundary_edges": lines,
-        "boundary_patch": _lookup(f, line_entity, 1, patch_of_tag, where),
-        "patch_names": patch_names,
+        **_lines_and_interfaces(lines, patch, patch_names, cells, meta),
         "level": meta.get("level", 0),
         "name": meta.get("name", ""),
         **columns,
@@ -443,11 +443,7 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     f.coords = None  # freed before the Mesh is built
 
     region_of_tag, region_names = _groups(f, 2, meta.get("region_names"))
-    known = meta.get("patch_names")
-    inner = meta.get("interface_names")
-    if isinstance(known, list) and isinstance(inner, list):
-        known = known + inner
-    patch_of_tag, patch_names = _groups(f, 1, known)
+    patch_of_tag, patch_names = _groups(f, 1, _line_names(meta))
     # each pentagon's first element, as a position in the file
     element = merged.first_element if order is None else order[merged.first_element]
     entity_of_cell = f.surface.entity(element)
@@ -471,11 +467,20 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     }
 
 
+def _line_names(meta: dict[str, Any]) -> Any:
+    """The names of the physical lines blockmesh wrote: the patches, then the interfaces."""
+    known = meta.get("patch_names")
+    inner = meta.get("interface_names")
+    if isinstance(known, list) and isinstance(inner, list):
+        return known + inner
+    return known
+
+
 def _lines_and_interfaces(
     lines: np.ndarray,
     group: np.ndarray,
     names: list[str],
-    cells: np.ndarray,
+    cells: np.ndarray | PolygonCells,
     meta: dict[str, Any],
 ) -> dict[str, Any]:
     """Boundary edges and patches, and interface edges and interfaces, from the line groups.
@@ -496,7 +501,8 @@ def _lines_and_interfaces(
             "interface_patch": group[inner] - n_patches,
             "interface_names": names[n_patches:],
         }
-    n = int(max(cells.max(initial=-1), lines.max(initial=-1))) + 1
+    ids = cells.nodes if isinstance(cells, PolygonCells) else cells
+    n = int(max(ids.max(initial=-1), lines.max(initial=-1))) + 1
     outer = boundary_of_cells(cells, n)
     on_boundary = np.isin(
         edge_keys(lines[:, 0], lines[:, 1], n), edge_keys(outer[:, 0], outer[:, 1], n)

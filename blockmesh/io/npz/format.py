@@ -30,6 +30,7 @@ Examples
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -92,44 +93,35 @@ def read_npz(path: Path) -> Mesh | PolygonMesh:
         raise
     except Exception as exc:  # zipfile and numpy raise many kinds for damaged archives
         raise ExportError(f"cannot read {where} as .npz: {exc}") from None
+    common: dict[str, Any] = {
+        "where": where,
+        "block_id": arrays["block_id"],
+        "parent": arrays["parent"],
+        "region": arrays["region"],
+        "region_names": [str(s) for s in arrays["region_names"].tolist()],
+        "boundary_edges": arrays["boundary_edges"],
+        "boundary_patch": arrays["boundary_patch"],
+        "patch_names": [str(s) for s in arrays["patch_names"].tolist()],
+        "interface_edges": arrays.get("interface_edges"),
+        "interface_patch": arrays.get("interface_patch"),
+        "interface_names": (
+            [str(s) for s in arrays["interface_names"].tolist()]
+            if "interface_names" in arrays
+            else None
+        ),
+        "level": int(arrays.get("level", 0)),
+        "name": str(arrays.get("name", "")),
+    }
     if "cell_offsets" in arrays:
         return polygon_mesh_from_arrays(
             arrays["points"],
             arrays["cell_offsets"],
             arrays["cell_nodes"],
-            where=where,
-            block_id=arrays["block_id"],
-            parent=arrays["parent"],
-            region=arrays["region"],
-            region_names=[str(s) for s in arrays["region_names"].tolist()],
-            boundary_edges=arrays["boundary_edges"],
-            boundary_patch=arrays["boundary_patch"],
-            patch_names=[str(s) for s in arrays["patch_names"].tolist()],
             cell_level=arrays.get("cell_level"),
-            level=int(arrays.get("level", 0)),
-            name=str(arrays.get("name", "")),
+            **common,
         )
     return mesh_from_arrays(
-        arrays["points"],
-        arrays["cells"],
-        where=where,
-        block_id=arrays["block_id"],
-        parent=arrays["parent"],
-        region=arrays["region"],
-        region_names=[str(s) for s in arrays["region_names"].tolist()],
-        boundary_edges=arrays["boundary_edges"],
-        boundary_patch=arrays["boundary_patch"],
-        patch_names=[str(s) for s in arrays["patch_names"].tolist()],
-        interface_edges=arrays.get("interface_edges"),
-        interface_patch=arrays.get("interface_patch"),
-        interface_names=(
-            [str(s) for s in arrays["interface_names"].tolist()]
-            if "interface_names" in arrays
-            else None
-        ),
-        level=int(arrays.get("level", 0)),
-        name=str(arrays.get("name", "")),
-        curves=curves_from_arrays(arrays, where),
+        arrays["points"], arrays["cells"], curves=curves_from_arrays(arrays, where), **common
     )
 
 

@@ -5,7 +5,8 @@ A :class:`~blockmesh.mesh.polygons.PolygonMesh` is written as any mesh is
 faces n-gons (hanging nodes included, so a coarse cell next to two finer ones has two side faces
 there, each shared with one fine cell: the mesh is conforming, and ``checkMesh`` passes), its side
 faces quadrilaterals. :func:`read_polygon_case` reads such a case back: the cells from the faces on
-the bottom plane, the patches from the side faces, the regions from the cell zones.
+the bottom plane, the patches from the side faces, the regions from the cell zones and the
+interfaces from the face zones.
 
 The faces of the empty patch are parsed with a regular expression (they have different sizes,
 so the fixed-width parser of :mod:`blockmesh.io.openfoam.reader` does not apply); that is about a
@@ -36,10 +37,15 @@ from blockmesh.geometry.topology import PolygonCells
 from blockmesh.io.openfoam.reader import (
     FaceSizeError,
     _find_polymesh,
+    _list_size,
+    _read_face_zones,
     _read_zones,
     foam_file,
     read_boundary,
+    read_faces,
     read_list,
+    side_edges,
+    zone_interfaces,
 )
 from blockmesh.io.openfoam.reader import read_openfoam as read_pentagon_case
 from blockmesh.io.polygons import polygon_mesh_from_arrays
@@ -144,17 +150,12 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
         quads = np.asarray(quad_nodes, dtype=np.int64).reshape(-1, 4)
         if size and np.any(np.diff(quad_offsets) != 4):
             raise ExportError(f"{where}: patch {p['name']} has side faces that are not quads")
-        lowq = on_bottom[quads]
-        pair = lowq & np.roll(lowq, -1, axis=1)
-        if np.any(pair.sum(axis=1) != 1):
-            raise ExportError(f"{where}: patch {p['name']} has faces that are not one-layer sides")
-        i = np.argmax(pair, axis=1)
-        rows = np.arange(quads.shape[0])
-        edges.append(np.stack([quads[rows, i], quads[rows, (i + 1) % 4]], axis=1))
+        edges.append(side_edges(quads, on_bottom, f"{where}: patch {p['name']}"))
         patch.append(np.full(quads.shape[0], len(names)))
         names.append(p["name"])
     zones = _read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
+    interfaces = _interfaces(poly, on_bottom, new_id, where)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
     del n_faces
     return {
@@ -166,8 +167,22 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
         "boundary_edges": new_id[np.concatenate(edges)] if edges else np.empty((0, 2), np.int64),
         "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
         "patch_names": names,
+        **interfaces,
         "name": case.name,
     }
+
+
+def _interfaces(
+    poly: Path, on_bottom: np.ndarray, new_id: np.ndarray, where: str
+) -> dict[str, Any]:
+    """The interfaces of a polygon case from its face zones (none without ``faceZones``)."""
+    with foam_file(poly, "neighbour") as (r, _):
+        n_internal = _list_size(r)
+    face_zones = _read_face_zones(poly, n_internal)
+    if face_zones is None or not n_internal:
+        return {}
+    internal = read_faces(poly, [(0, n_internal, 4)])[0]
+    return zone_interfaces(face_zones, internal, on_bottom, new_id, where)
 
 
 def read_openfoam(path: Path) -> Mesh | PolygonMesh:

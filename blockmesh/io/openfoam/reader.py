@@ -43,6 +43,8 @@ __all__ = [
     "read_faces",
     "read_list",
     "read_openfoam",
+    "side_edges",
+    "zone_interfaces",
 ]
 
 
@@ -452,13 +454,7 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         quad = face_of.get(k, np.empty((0, 4), dtype=np.int64))
         if quad.size and quad.max() >= n_points:
             raise ExportError(f"{where}: patch {p['name']} names points beyond the points file")
-        low = on_bottom[quad]
-        pair = low & np.roll(low, -1, axis=1)
-        if np.any(pair.sum(axis=1) != 1):
-            raise ExportError(f"{where}: patch {p['name']} has faces that are not one-layer sides")
-        i = np.argmax(pair, axis=1)
-        rows_ = np.arange(quad.shape[0])
-        edges.append(np.stack([quad[rows_, i], quad[rows_, (i + 1) % 4]], axis=1))
+        edges.append(side_edges(quad, on_bottom, f"{where}: patch {p['name']}"))
         patch.append(np.full(quad.shape[0], len(names)))
         names.append(p["name"])
     boundary_edges = np.concatenate(edges) if edges else np.empty((0, 2), np.int64)
@@ -466,23 +462,7 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         boundary_edges = new_id[boundary_edges]
     interfaces: dict[str, Any] = {}
     if face_zones is not None and internal is not None:
-        labels, flip, zone, zone_names = face_zones
-        quad = internal[labels]
-        low = on_bottom[quad]
-        pair = low & np.roll(low, -1, axis=1)
-        if np.any(pair.sum(axis=1) != 1):
-            raise ExportError(f"{where}: a face zone has faces that are not one-layer sides")
-        i = np.argmax(pair, axis=1)
-        rows_ = np.arange(quad.shape[0])
-        inner = np.stack([quad[rows_, i], quad[rows_, (i + 1) % 4]], axis=1)
-        inner[flip] = inner[flip][:, ::-1]
-        if new_id is not None:
-            inner = new_id[inner]
-        interfaces = {
-            "interface_edges": inner,
-            "interface_patch": zone,
-            "interface_names": zone_names,
-        }
+        interfaces = zone_interfaces(face_zones, internal, on_bottom, new_id, where)
     zones = _read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
@@ -497,6 +477,43 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         **interfaces,
         "name": case.name,
     }
+
+
+def side_edges(quads: np.ndarray, on_bottom: np.ndarray, what: str) -> np.ndarray:
+    """The bottom edge (E, 2) of every side face ``quads`` (E, 4) of a one-layer mesh.
+
+    The edge runs as the face lists its two bottom points; ExportError naming ``what`` for a
+    face without exactly one edge on the bottom plane.
+    """
+    low = on_bottom[quads]
+    pair = low & np.roll(low, -1, axis=1)
+    if np.any(pair.sum(axis=1) != 1):
+        raise ExportError(f"{what} has faces that are not one-layer sides")
+    i = np.argmax(pair, axis=1)
+    rows = np.arange(quads.shape[0])
+    return np.stack([quads[rows, i], quads[rows, (i + 1) % 4]], axis=1)
+
+
+def zone_interfaces(
+    face_zones: tuple[np.ndarray, np.ndarray, np.ndarray, list[str]],
+    internal: np.ndarray,
+    on_bottom: np.ndarray,
+    new_id: np.ndarray | None,
+    where: str,
+) -> dict[str, Any]:
+    """The interface arguments of a mesh from its face zones (:func:`_read_face_zones`).
+
+    ``internal`` are the internal faces (quads of the one layer), ``on_bottom`` whether each
+    point is on the bottom plane, ``new_id`` the points' new ids (None: kept). Each zone face
+    becomes the edge it stands on, directed so that the zone's first region (the face's flip
+    map) is on its left.
+    """
+    labels, flip, zone, zone_names = face_zones
+    inner = side_edges(internal[labels], on_bottom, f"{where}: a face zone")
+    inner[flip] = inner[flip][:, ::-1]
+    if new_id is not None:
+        inner = new_id[inner]
+    return {"interface_edges": inner, "interface_patch": zone, "interface_names": zone_names}
 
 
 def _read_face_zones(

@@ -212,10 +212,11 @@ def _meshio_polygons(mesh: PolygonMesh) -> meshio.Mesh:
     import meshio
 
     groups = mesh.groups
-    eb = mesh.boundary_edges.shape[0]
+    edges, patch, interface = line_arrays(mesh)
+    eb = edges.shape[0]
     cells = [("polygon", g.cells) for g in groups]
     if eb:
-        cells.append(("line", mesh.boundary_edges))
+        cells.append(("line", edges))
     minus_eb = np.full(eb, -1, np.int64)
 
     def data(values: np.ndarray | None, on_lines: np.ndarray | None = None) -> list[np.ndarray]:
@@ -224,22 +225,23 @@ def _meshio_polygons(mesh: PolygonMesh) -> meshio.Mesh:
         ]
         return parts + ([minus_eb if on_lines is None else on_lines] if eb else [])
 
+    cell_data = {
+        "block_id": data(mesh.block_id),
+        "region": data(mesh.region),
+        "parent": data(mesh.parent),
+        "patch": data(None, patch),
+        "cell_index": data(np.arange(mesh.n_cells, dtype=np.int64)),
+        "cell_level": data(mesh.cell_level),
+    }
+    if mesh.interface_names:
+        cell_data["interface"] = data(None, interface)
     return meshio.Mesh(
-        np.column_stack([mesh.points, np.zeros(mesh.n_points)]),
-        cells,
-        cell_data={
-            "block_id": data(mesh.block_id),
-            "region": data(mesh.region),
-            "parent": data(mesh.parent),
-            "patch": data(None, mesh.boundary_patch),
-            "cell_index": data(np.arange(mesh.n_cells, dtype=np.int64)),
-            "cell_level": data(mesh.cell_level),
-        },
+        np.column_stack([mesh.points, np.zeros(mesh.n_points)]), cells, cell_data=cell_data
     )
 
 
 def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> PolygonMesh:
-    """A :class:`PolygonMesh` from a meshio mesh of polygons of any sizes (and boundary lines).
+    """A :class:`PolygonMesh` from a meshio mesh of polygons of any sizes (and their lines).
 
     The cells are taken in the file's order, or in the order of the cell data ``cell_index``
     when present (blockmesh writes one block per vertex count).
@@ -277,15 +279,18 @@ def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Polygon
     patch_names = _names(meta, vm.field_data, "patch")
     if edges is not None and patch is None:
         patch_names = patch_names or ["boundary"]
+    lines_split = split_lines(edges, patch, gather("interface", lines) if lines else None)
+    if lines_split["boundary_edges"] is None and meta:
+        lines_split["boundary_edges"] = np.empty((0, 2))
     return polygon_mesh_from_arrays(
         vm.points,
         offsets,
         nodes,
         where=where,
         region_names=_names(meta, vm.field_data, "region"),
-        boundary_edges=edges if edges is not None else (np.empty((0, 2)) if meta else None),
-        boundary_patch=patch,
+        **lines_split,
         patch_names=patch_names,
+        interface_names=_names(meta, vm.field_data, "interface"),
         level=meta.get("level", 0),
         name=meta.get("name", ""),
         **columns,

@@ -510,15 +510,20 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
                 )
             }
             patch = attribute(cells_grid, "patch")
+            interface = attribute(cells_grid, "interface")
             return polygon_mesh_from_arrays(
                 points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
                 offsets,
                 nodes,
                 where=where,
                 region_names=meta.get("region_names"),
-                boundary_edges=edges,
-                boundary_patch=None if patch is None else patch[m:].copy(),
+                **split_lines(
+                    edges,
+                    None if patch is None else patch[m:].copy(),
+                    None if interface is None else interface[m:].copy(),
+                ),
                 patch_names=meta.get("patch_names") or ("boundary",),
+                interface_names=meta.get("interface_names"),
                 level=meta.get("level", 0),
                 name=meta.get("name", ""),
                 **columns,
