@@ -19,10 +19,11 @@ import os
 import sys
 import warnings
 from collections.abc import Sequence
+from signal import SIGINT
 from typing import ClassVar, NoReturn
 
 from blockmesh import __version__
-from blockmesh._system.interrupts import Terminated, raise_pending, stop_on_signals
+from blockmesh._system.interrupts import Terminated, pending, raise_pending, stop_on_signals
 from blockmesh.commands import SUMMARIES, load
 from blockmesh.errors import BlockMeshError
 
@@ -151,6 +152,12 @@ def _run(args: argparse.Namespace, where: str) -> tuple[int, Failure | None]:
             2, type(error).__name__, message, f"{where}: error:{target}: {error.strerror or error}"
         )
     except Exception as error:
+        signum = pending()
+        if signum is not None:  # the error came of the signal's unwinding (e.g. inside h5py)
+            _remove_pending()
+            message = "interrupted" if signum == SIGINT else f"terminated by signal {signum}"
+            kind = "KeyboardInterrupt" if signum == SIGINT else "Terminated"
+            return fail(128 + signum, kind, message, f"{where}: {message}")
         if os.environ.get("BLOCKMESH_DEBUG"):
             raise
         message = (

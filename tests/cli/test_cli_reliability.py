@@ -217,6 +217,29 @@ def test_python_dash_m_blockmesh_runs_the_command_line():
     assert done.returncode == 0 and done.stdout.startswith("blockmesh ")
 
 
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_an_error_raised_while_a_signal_unwinds_reports_the_signal(
+    tmp_path, capsys, monkeypatch, signum
+):
+    """A library turning the signal's exception into its own (h5py raised a TypeError when
+    Ctrl-C landed inside it) is still the signal: its exit code, not "internal error"."""
+
+    def library_that_converts(*_args, **_kwargs):
+        try:
+            os.kill(os.getpid(), signum)
+        except KeyboardInterrupt:  # Terminated is one too
+            raise TypeError("the library's state after the interrupt") from None
+
+    monkeypatch.setattr("blockmesh.commands.mesh.write", library_that_converts)
+    monkeypatch.delenv("BLOCKMESH_DEBUG", raising=False)
+    code, _, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(tmp_path / "m.vtu"))
+    assert code == 128 + signum, err
+    assert "internal error" not in err and ("interrupted" in err or "terminated" in err)
+    monkeypatch.setattr("blockmesh.commands.mesh.write", blockmesh.write)
+    code, _, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(tmp_path / "m.vtu"))
+    assert code == 0, err  # the record does not outlive the command
+
+
 def test_unexpected_errors_are_one_line_not_a_traceback(capsys, monkeypatch):
     def broken(*_args, **_kwargs):
         raise ZeroDivisionError("boom")
