@@ -37,6 +37,7 @@ from blockmesh.decompose import decompose_polygon
 from blockmesh.decompose.conversion import convert_elements, read_element_mesh
 from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, resolve_curves
 from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
+from blockmesh.domain.sized import DomainGeometry, resized
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
 from blockmesh.domain.validate import (
     Ring,
@@ -49,6 +50,7 @@ from blockmesh.domain.validate import (
     resolve_regions,
 )
 from blockmesh.errors import (
+    ArgumentError,
     ArgumentTypeError,
     BlockMeshError,
     DomainError,
@@ -59,6 +61,9 @@ from blockmesh.geometry.polygons import interior_angles, signed_area
 from blockmesh.geometry.topology import boundary_loops, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.pipeline import refine
+from blockmesh.sizing.fields import SizeField
+from blockmesh.sizing.measure import SizeReport, size_report
+from blockmesh.sizing.spec import as_size_spec
 
 __all__ = ["Domain"]
 
@@ -106,6 +111,10 @@ class Domain:
     curves : mapping of (a, b) to Curve
         The curved block edges (read-only view): each curve runs from vertex ``a`` to vertex
         ``b`` (:mod:`blockmesh.curves`); empty when every edge is straight.
+    size_field : SizeField or None
+        The size field the blocks were made for (:meth:`with_size`), or None.
+    size_gradation : float or None
+        The gradation the field was made to keep (the largest size ratio between neighbours).
     """
 
     name: str
@@ -121,6 +130,8 @@ class Domain:
     boundary_source: np.ndarray = field(default_factory=_no_source, repr=False)
     block_source: np.ndarray = field(default_factory=_no_source, repr=False)
     curves: Mapping[tuple[int, int], Curve] = field(default_factory=dict)
+    size_field: SizeField | None = field(default=None, repr=False, compare=False)
+    size_gradation: float | None = field(default=None, repr=False, compare=False)
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
@@ -347,6 +358,7 @@ class Domain:
         description: str = "",
         arcs: Mapping[int | str, Curve] | None = None,
         circles: Iterable[Mapping[str, Any]] | None = None,
+        size: Any = None,
     ) -> Domain:
         """Any simple polygon, convex or not, with any number of holes, decomposed into blocks.
 
@@ -369,6 +381,9 @@ class Domain:
             Circular holes, each ``{"center": (x, y), "radius": r}`` with optionally
             ``"patch"`` (a patch name) and ``"sides"`` (of the inscribed polygon decomposed,
             default 8); they are numbered after the ``holes``.
+        size : optional
+            Cut the polygon into blocks of these sizes (a number, an expression in x and y, a
+            size table, a function; see :meth:`with_size`) instead of the fewest blocks.
 
         Notes
         -----
@@ -390,6 +405,12 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
+        if size is not None:
+            unsized = cls.from_polygon(
+                coords, holes, name=name, patches=patches, description=description, arcs=arcs,
+                circles=circles,
+            )  # fmt: skip
+            return unsized.with_size(size)
         if (
             arcs or circles
         ):  # decomposed through the chords, then curved: blockmesh.domain.curved_polygons
@@ -684,9 +705,72 @@ class Domain:
             curves=curved_edges(self.curves),
         )
 
-    def mesh(self, level: int, **options: Any) -> Mesh:
-        """Refine the blocks ``level`` times; options as :func:`blockmesh.refine`."""
+    def mesh(self, level: int | None = None, *, size: Any = None, **options: Any) -> Mesh:
+        """Refine the blocks ``level`` times; options as :func:`blockmesh.refine`.
+
+        With ``size`` (see :meth:`with_size`) the blocks are first cut to the sizes asked, and
+        ``level`` (default 0) refines them further. A domain already made for a size field
+        meshes at level 0 when no level is given.
+
+        Examples
+        --------
+        >>> d = Domain.from_polygon([(0, 0), (2, 0), (2, 1), (0, 1)])
+        >>> mesh = d.mesh(size=0.25)
+        >>> mesh.level, bool(mesh.n_cells > 50)
+        (0, True)
+        """
+        if size is not None:
+            return self.with_size(size).mesh(level, **options)
+        if level is None:
+            if self.size_field is None:
+                raise ArgumentError(
+                    "mesh() needs a level (uniform refinement) or a size (cells of that diameter)"
+                )
+            level = 0
         return refine(self, level, **options)
+
+    def with_size(
+        self, size: Any, *, gradation: float | None = None, max_memory: int | None = None
+    ) -> Domain:
+        """This domain re-cut into blocks of the sizes asked: every block is a cell of that size.
+
+        The blocks follow the size field (every block's diameter at most 1.5 times the size asked
+        at its centroid, about 1.5 times the fewest cells that allows), conform, keep the
+        patches, regions and curves, and refine further like any others. See
+        :mod:`blockmesh.domain.sized` and :mod:`blockmesh.sizing.spec` for the forms of ``size``.
+
+        Parameters
+        ----------
+        size : number, str, callable, mapping, SizeField, or a list of these
+            A cell diameter; an expression in ``x`` and ``y``; a function ``f(x, y)`` of arrays;
+            a size table (``default``, ``regions``, ``near`` patches or points with ``growth``
+            or ``distance``, ``expression``, ``gradation``); their minimum (a list).
+        gradation : float, optional
+            Largest size ratio between neighbouring cells the field may ask (default 1.3).
+        max_memory : int, optional
+            Refuse fields predicted to need more bytes than this (default: the memory available).
+
+        Examples
+        --------
+        >>> d = Domain.from_polygon([(0, 0), (2, 0), (2, 1), (0, 1)], patches={"left": [3]})
+        >>> graded = d.with_size({"default": 0.3, "near": [{"patch": "left", "size": 0.05,
+        ...                                                  "growth": 1.2}]})
+        >>> report = graded.size_report()
+        >>> bool(report.worst_ratio <= 1.5), bool(0.5 < report.count_ratio < 2)
+        (True, True)
+        """
+        return resized(self, size, gradation=gradation, max_memory=max_memory)
+
+    def size_report(self, field: Any = None) -> SizeReport:
+        """The blocks' sizes against ``field`` (default: the field they were made for).
+
+        See :class:`blockmesh.sizing.SizeReport`.
+        """
+        asked = self.size_field if field is None else as_size_spec(field).field(
+            DomainGeometry(self)
+        )
+        mesh = self.block_mesh()
+        return size_report(mesh.points, mesh.cells, asked, curves=mesh.curves)
 
 
 # ---------------------------------------------------------------------- helpers
@@ -935,6 +1019,17 @@ def _merged(
 
 
 def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
+    size = raw.pop("size", None)
+    domain = _geometry_from_raw(raw, source=source)
+    if size is None:
+        return domain
+    try:
+        return domain.with_size(as_size_spec(size, source=f"{source} [size]"))
+    except DomainError as error:
+        raise type(error)(f"{source}: {error}") from None
+
+
+def _geometry_from_raw(raw: dict[str, Any], *, source: str) -> Domain:
     name = raw.get("name", "domain")
     description = raw.get("description", "")
     try:

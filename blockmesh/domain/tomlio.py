@@ -97,6 +97,8 @@ ALLOWED_KEYS = {
     "through|center",
     "circles": 'circular holes of a polygon: [{center = [x, y], radius = r, patch = "name"}]',
     "circle": 'a whole disc instead of a polygon: {center = [x, y], radius = r, patch = "name"}',
+    "size": "the cell size: a number, an expression in x, y, or a [size] table (default, "
+    "regions, [[size.near]], expression, gradation); the blocks are cut to it",
 }
 
 
@@ -269,6 +271,11 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
                 f"{source}: key {key!r} must be a list ({ALLOWED_KEYS[key]}), got "
                 f"{_toml_type(raw[key])}"
             )
+    if "size" in raw and not isinstance(raw["size"], dict | str | int | float):
+        raise DomainFormatError(
+            f"{source}: key 'size' must be a number, an expression or a [size] table, got "
+            f"{_toml_type(raw['size'])}"
+        )
     for key in ("patches", "regions"):
         if key in raw and not isinstance(raw[key], dict):
             raise DomainFormatError(
@@ -334,7 +341,7 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
 
 def _disc(raw: dict[str, Any], source: str) -> dict[str, Any]:
     """A ``circle = {...}`` domain: the table checked, no other geometry."""
-    others = sorted(set(raw) - {"name", "description", "circle"})
+    others = sorted(set(raw) - {"name", "description", "circle", "size"})
     if others:
         raise DomainFormatError(
             f"{source}: a 'circle' is the whole domain; leave out {', '.join(map(repr, others))} "

@@ -1,0 +1,228 @@
+"""Sizes achieved: cell diameters, neighbours' size ratios, and the size asked against the size got.
+
+A cell's *size* is its diameter: the largest distance between two of its points (corners, and
+the middles of its curved edges, which bulge beyond the corners). :func:`size_report` measures
+a mesh against a size field: the worst ratio of a cell's diameter to the size asked at its
+centroid (and where), the count against the ideal ``integral of 1 / (a h^2)``, and the largest
+ratio between the diameters of two cells that share an edge (which any mesh has, field or not).
+
+Examples
+--------
+>>> import numpy as np
+>>> points = np.array([[0, 0], [1, 0], [1.5, 1], [1, 2], [0, 2], [2, 0], [3, 0.5], [2.5, 1.5]])
+>>> cells = np.array([[0, 1, 2, 3, 4], [1, 5, 6, 7, 2]])
+>>> cell_diameters(points, cells).round(3).tolist()
+[2.236, 2.121]
+>>> r = size_report(points, cells)
+>>> round(r.neighbour_ratio, 3), r.neighbour_cells
+(1.054, (0, 1))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from blockmesh.curves.edges import CurvedEdges, curved_slots
+from blockmesh.errors import fmt_point
+from blockmesh.geometry.topology import cell_neighbours
+from blockmesh.sizing.fields import SizeField, checked_sizes
+from blockmesh.sizing.predict import mesh_ideal_count
+
+__all__ = ["SizeReport", "cell_centroids", "cell_diameters", "neighbour_ratios", "size_report"]
+
+#: Cells measured per step (bounded memory on large meshes).
+_CHUNK = 1 << 16
+
+
+def _outline(points: np.ndarray, cells: np.ndarray, curves: CurvedEdges | None) -> np.ndarray:
+    """Corners and edge middles of each cell (the curve's middle on curved edges), (M, 2k, 2)."""
+    xy = points[cells]
+    middles = 0.5 * (xy + np.roll(xy, -1, axis=1))
+    if curves is not None and len(curves):
+        row, _ = curved_slots(cells, len(points), curves)
+        slot = np.flatnonzero(row.ravel() >= 0)
+        if slot.size:
+            which = row.ravel()[slot]
+            t = 0.5 * (curves.start[which] + curves.stop[which])
+            bent = np.empty((slot.size, 2))
+            for k in np.unique(curves.curve[which]):
+                sel = curves.curve[which] == k
+                bent[sel] = curves.curves[int(k)].point(t[sel])
+            flat = middles.reshape(-1, 2)
+            flat[slot] = bent
+    return np.concatenate([xy, middles], axis=1)
+
+
+def cell_diameters(
+    points: np.ndarray, cells: np.ndarray, curves: CurvedEdges | None = None
+) -> np.ndarray:
+    """Diameter of every cell: the largest distance between two of its corners or edge middles.
+
+    O(M k^2), in chunks.
+    """
+    points = np.asarray(points, dtype=np.float64)
+    cells = np.asarray(cells, dtype=np.int64)
+    out = np.empty(len(cells))
+    for start in range(0, len(cells), _CHUNK):
+        part = cells[start : start + _CHUNK]
+        p = _outline(points, part, curves)
+        diff = p[:, :, None, :] - p[:, None, :, :]
+        out[start : start + len(part)] = np.sqrt(np.max(np.sum(diff * diff, axis=-1), axis=(1, 2)))
+    return out
+
+
+def cell_centroids(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Area centroid of every (straight) cell, (M, 2).
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [2, 0], [2, 1], [2, 2], [0, 2]], dtype=float)
+    >>> cell_centroids(square, np.array([[0, 1, 2, 3, 4]])).tolist()
+    [[1.0, 1.0]]
+    """
+    xy = np.asarray(points, dtype=np.float64)[np.asarray(cells)]
+    base = xy[:, :1]
+    u = xy - base
+    v = np.roll(u, -1, axis=1)
+    cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+    area = cross.sum(axis=1)
+    centre = np.sum((u + v) * cross[..., None], axis=1) / (3.0 * area[:, None])
+    return base[:, 0] + centre
+
+
+def neighbour_ratios(cells: np.ndarray, n_points: int, sizes: np.ndarray) -> np.ndarray:
+    """For every edge shared by two cells, ``(cell, other, larger / smaller of their sizes)``.
+
+    Returns an (E, 3) float array (cell ids as floats), one row per shared edge.
+    """
+    neighbour = cell_neighbours(np.asarray(cells, dtype=np.int64), n_points)
+    k = neighbour.shape[1]
+    slot = np.flatnonzero(neighbour.ravel() >= 0)
+    cell = slot // k
+    other = neighbour.ravel()[slot] // k
+    keep = cell < other
+    cell, other = cell[keep], other[keep]
+    a, b = sizes[cell], sizes[other]
+    return np.column_stack([cell, other, np.maximum(a, b) / np.minimum(a, b)])
+
+
+@dataclass(frozen=True)
+class SizeReport:
+    """A mesh's sizes against the sizes asked (see the module notes).
+
+    Attributes
+    ----------
+    cells : int
+    min_diameter, max_diameter : float
+        Smallest and largest cell diameter.
+    neighbour_ratio : float
+        Largest ratio of the diameters of two cells sharing an edge.
+    neighbour_cells : (int, int)
+        Those two cells.
+    worst_ratio : float or None
+        Largest ``diameter / size asked at the centroid`` (None without a field).
+    worst_cell : int or None
+    worst_point : (float, float) or None
+        The worst cell's centroid.
+    mean_ratio : float or None
+        Mean of ``diameter / size asked``.
+    ideal_cells : float or None
+        The integral of ``1 / (a h^2)`` over the mesh (the fewest cells the field allows if
+        they were regular pentagons).
+    """
+
+    cells: int
+    min_diameter: float
+    max_diameter: float
+    neighbour_ratio: float
+    neighbour_cells: tuple[int, int]
+    worst_ratio: float | None = None
+    worst_cell: int | None = None
+    worst_point: tuple[float, float] | None = None
+    mean_ratio: float | None = None
+    ideal_cells: float | None = None
+
+    @property
+    def count_ratio(self) -> float | None:
+        """Cells over the ideal count."""
+        if self.ideal_cells is None or not self.ideal_cells > 0:
+            return None
+        return self.cells / self.ideal_cells
+
+    def as_dict(self) -> dict[str, Any]:
+        """The report as JSON-ready values."""
+        return {
+            "cells": self.cells,
+            "min_diameter": self.min_diameter,
+            "max_diameter": self.max_diameter,
+            "neighbour_ratio": self.neighbour_ratio,
+            "neighbour_cells": list(self.neighbour_cells),
+            "worst_ratio": self.worst_ratio,
+            "worst_cell": self.worst_cell,
+            "worst_point": None if self.worst_point is None else list(self.worst_point),
+            "mean_ratio": self.mean_ratio,
+            "ideal_cells": self.ideal_cells,
+            "count_ratio": self.count_ratio,
+        }
+
+    def summary(self) -> str:
+        """One or two lines for people."""
+        a, b = self.neighbour_cells
+        text = (
+            f"cell diameters {self.min_diameter:.4g} .. {self.max_diameter:.4g}; largest "
+            f"neighbour size ratio {self.neighbour_ratio:.3g} (cells {a} and {b})"
+        )
+        if self.worst_ratio is not None and self.worst_point is not None:
+            text += (
+                f"\nsize got / size asked: worst {self.worst_ratio:.3g} (cell {self.worst_cell} "
+                f"at {fmt_point(self.worst_point, 6)}), mean {self.mean_ratio:.3g}; "
+                f"{self.cells:,} cells = {self.count_ratio:.3g} x the ideal "
+                f"{self.ideal_cells:,.0f}"
+            )
+        return text
+
+
+def size_report(
+    points: np.ndarray,
+    cells: np.ndarray,
+    field: SizeField | None = None,
+    *,
+    curves: CurvedEdges | None = None,
+) -> SizeReport:
+    """Measure a mesh's cell sizes, and against ``field`` when given (see the module notes).
+
+    O(M) time, memory in chunks for the diameters.
+    """
+    points = np.asarray(points, dtype=np.float64)
+    cells = np.asarray(cells, dtype=np.int64)
+    diameters = cell_diameters(points, cells, curves)
+    pairs = neighbour_ratios(cells, len(points), diameters)
+    if len(pairs):
+        k = int(np.argmax(pairs[:, 2]))
+        neighbour = float(pairs[k, 2])
+        between = (int(pairs[k, 0]), int(pairs[k, 1]))
+    else:
+        neighbour, between = 1.0, (0, 0)
+    report: dict[str, Any] = {}
+    if field is not None and len(cells):
+        centroids = cell_centroids(points, cells)
+        ratio = diameters / checked_sizes(field, centroids)
+        worst = int(np.argmax(ratio))
+        report = {
+            "worst_ratio": float(ratio[worst]),
+            "worst_cell": worst,
+            "worst_point": (float(centroids[worst, 0]), float(centroids[worst, 1])),
+            "mean_ratio": float(ratio.mean()),
+            "ideal_cells": mesh_ideal_count(field, points, cells),
+        }
+    return SizeReport(
+        cells=len(cells),
+        min_diameter=float(diameters.min()) if len(cells) else 0.0,
+        max_diameter=float(diameters.max()) if len(cells) else 0.0,
+        neighbour_ratio=neighbour,
+        neighbour_cells=between,
+        **report,
+    )
