@@ -67,6 +67,7 @@ from blockmesh.geometry.polygons import (
 from blockmesh.refinement.placement import Freedom
 from blockmesh.sizing.fields import SizeField, checked_sizes
 from blockmesh.sizing.gradation import DEFAULT_GRADATION, grade
+from blockmesh.sizing.measure import cell_centroids, cell_diameters
 
 __all__ = [
     "CURVE_TURN",
@@ -84,10 +85,10 @@ __all__ = [
 SIZE_TOLERANCE = 1.5
 #: Triangle side aimed at, in units of the size asked (the balanced template's cells are about
 #: a third of the side across; measured so that the cells land at 0.9-1.1 h on average).
-KAPPA = 3.0
-#: Largest turn of a curved chain between two of its points (radians): 45 degrees (each
+KAPPA = 3.2
+#: Largest turn of a curved chain between two of its points (radians): 30 degrees (each
 #: block edge along it, a third of that).
-CURVE_TURN = math.pi / 4
+CURVE_TURN = math.pi / 6
 #: Most blocks made (about 9 per triangle); beyond, ResourceError (the memory guard of
 #: :func:`blockmesh.sizing.ideal_count` says so first, for sizes it can see).
 MAX_BLOCKS = 20_000_000
@@ -523,7 +524,10 @@ def _relax(
     length,
     segments: np.ndarray,
     iterations: int = _ITERATIONS,
-) -> np.ndarray:
+    *,
+    movable: np.ndarray | None = None,
+    scale: float | None = None,
+) -> tuple[np.ndarray, float]:
     """DistMesh: springs along the triangle edges push the free points apart to ``length``.
 
     ``segments`` (S, 2, 2) is the sampled outline: a free point nearer to it than half its
@@ -532,6 +536,11 @@ def _relax(
     take a free point out of the domain or nearer than that to the outline is not made. The
     triangulation is made again only when some point has moved a fifth of its ``length`` since
     the last one; the outline is only looked at for points within two ``length`` of its points.
+
+    ``movable`` (a mask) limits the points that move, and ``scale`` fixes the springs' rest
+    length to ``scale * length`` (by default it is set so that the springs fill the domain): a
+    repair moves the points near the ones it added and leaves the rest of the mesh as it was.
+    Returns the points and the scale used last.
     """
     import shapely
     from scipy.spatial import cKDTree
@@ -539,7 +548,11 @@ def _relax(
     tree = shapely.STRtree(shapely.linestrings(segments))
     outline_points = cKDTree(points[:n_fixed])
     points = points.copy()
-    free = np.flatnonzero(np.arange(len(points)) >= n_fixed)
+    free = np.arange(len(points)) >= n_fixed
+    if movable is not None:
+        free &= movable
+    free = np.flatnonzero(free)
+    used = 1.0
 
     def clearance(xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Distance to the outline and the unit direction away from its nearest point."""
@@ -561,8 +574,12 @@ def _relax(
         vec = points[e[:, 1]] - points[e[:, 0]]
         lengths = np.hypot(vec[:, 0], vec[:, 1])
         wanted = 0.5 * (here[e[:, 0]] + here[e[:, 1]])
-        scale = _FSCALE * math.sqrt(float(np.sum(lengths**2)) / float(np.sum(wanted**2)))
-        force = np.maximum(scale * wanted - lengths, 0.0)
+        used = (
+            _FSCALE * math.sqrt(float(np.sum(lengths**2)) / float(np.sum(wanted**2)))
+            if scale is None
+            else scale
+        )
+        force = np.maximum(used * wanted - lengths, 0.0)
         push = vec * (force / np.maximum(lengths, 1e-300))[:, None]
         total = np.zeros_like(points)
         np.add.at(total, e[:, 0], -push)
@@ -585,7 +602,7 @@ def _relax(
         points += step
         if float(np.max(np.hypot(*step[free].T) / here[free], initial=0.0)) < 1e-3:
             break
-    return points
+    return points, used
 
 
 def _closest_on_segments(xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
@@ -672,27 +689,50 @@ def _lookup(keys: np.ndarray, order: np.ndarray, wanted: np.ndarray) -> np.ndarr
 
 
 # ---------------------------------------------------------------------------- pentagons
-def _pentagons(chains: _Chains, points: np.ndarray, triangles: np.ndarray, region: np.ndarray):
-    """Balanced templates on the triangles; the node chains and parameters along every chain."""
+def _pentagons(
+    chains: _Chains, points: np.ndarray, triangles: np.ndarray, weight: np.ndarray
+):
+    """Balanced templates on the triangles, graded; the node chains and their parameters.
+
+    The template's nodes are placed by barycentric weights on the triangle's corners; each
+    weight is scaled by the corner's ``weight`` (``L^(-1/2)``, ``L`` the triangle side wanted
+    there) and the three renormalised, so the cells near a corner asking smaller cells come out
+    smaller: to first order, cells proportional to a linearly varying ``L``. A node on a side
+    depends only on that side's two corners, so neighbours still share it.
+    """
     pieces = pentagons_from_pieces(points, [triangles], BALANCED_SECTOR_WEIGHTS)
     nodes = np.array(pieces.nodes)
-    n_chains = len(chains.outline.chains)
-    sides = pieces.side_chains(chains.a, chains.b)  # (S, 4): a, two side nodes, b
-    f1, f2 = EDGE_FRACTIONS
-    t_side = np.column_stack(
+    count = len(triangles)
+    first_new = len(points) + 2 * len(pieces.side_keys)
+    sides = pieces.side_chains(triangles.ravel(), np.roll(triangles, -1, axis=1).ravel())
+    ids = np.concatenate(
         [
-            chains.t0,
-            chains.t0 + f1 * (chains.t1 - chains.t0),
-            chains.t0 + f2 * (chains.t1 - chains.t0),
-            chains.t1,
-        ]
+            sides[:, 1:3].reshape(count, 6),
+            first_new + 10 * np.arange(count)[:, None] + np.arange(10),
+        ],
+        axis=1,
     )
+    corner = points[triangles]  # (T, 3, 2)
+    matrix = np.stack([corner[:, 0] - corner[:, 2], corner[:, 1] - corner[:, 2]], axis=2)
+    lam = np.linalg.solve(matrix[:, None], (nodes[ids] - corner[:, None, 2])[..., None])[..., 0]
+    lam = np.concatenate([lam, 1.0 - lam.sum(axis=2, keepdims=True)], axis=2)
+    mu = lam * weight[triangles][:, None, :]
+    mu /= mu.sum(axis=2, keepdims=True)
+    nodes[ids] = np.einsum("tnk,tkd->tnd", mu, corner)
+    n_chains = len(chains.outline.chains)
+    along = pieces.side_chains(chains.a, chains.b)  # (S, 4): a, two side nodes, b
+    wa, wb = weight[chains.a], weight[chains.b]
+    f1, f2 = EDGE_FRACTIONS
+    g1 = f1 * wb / ((1 - f1) * wa + f1 * wb)
+    g2 = f2 * wb / ((1 - f2) * wa + f2 * wb)
+    span = chains.t1 - chains.t0
+    t_side = np.column_stack([chains.t0, chains.t0 + g1 * span, chains.t0 + g2 * span, chains.t1])
     order = np.lexsort((chains.t0, chains.chain))
     bounds = np.searchsorted(chains.chain[order], np.arange(n_chains + 1))
     chain_nodes, chain_params = [], []
     for c in range(n_chains):
         run = order[bounds[c] : bounds[c + 1]]
-        chain_nodes.append(np.concatenate([sides[run, :3].ravel(), sides[run[-1:], 3]]))
+        chain_nodes.append(np.concatenate([along[run, :3].ravel(), along[run[-1:], 3]]))
         chain_params.append(np.concatenate([t_side[run, :3].ravel(), t_side[run[-1:], 3]]))
     return pieces, nodes, chain_nodes, chain_params
 
@@ -704,7 +744,7 @@ def _bend(
     nodes: np.ndarray,
     points: np.ndarray,
     triangles: np.ndarray,
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray]:
     """Template nodes of triangles with a side on a curve, moved with the curve.
 
     A triangle ``(A, B, C)`` whose side ``AB`` is a chord of curve ``γ`` is mapped by the
@@ -712,12 +752,14 @@ def _bend(
     ``t = λB / (λA + λB)``, with ``λ`` the barycentric coordinates of the straight node: the
     nodes on ``AB`` land on the curve, those on the other sides stay (their neighbours across
     share them), and the inner nodes follow, so the cells keep their shapes. Triangles with two
-    curved sides take both displacements.
+    curved sides take both displacements. Where the full displacement of the inner nodes would
+    fold a cell (a flat triangle on a strongly curved piece), they move less; the triangles
+    that fold even so are returned, for their chain segment to be split.
     """
     curved = np.array([c is not None for c in chains.outline.curves], dtype=bool)
     segments = np.flatnonzero(curved[chains.chain])
     if not segments.size:
-        return nodes
+        return nodes, np.zeros(0, dtype=np.int64)
     n = len(points)
     # The triangles on either side of each curved segment, and which corner is off it.
     keys = np.minimum(triangles, np.roll(triangles, -1, axis=1)) * n + np.maximum(
@@ -730,7 +772,8 @@ def _bend(
     which = segments[np.argsort(seg_keys)][np.searchsorted(np.sort(seg_keys), keys[tri, side])]
     per_piece = 10  # the hub and nine inner nodes of a triangle's template
     first_new = len(points) + 2 * len(pieces.side_keys)
-    moved = nodes.copy()
+    # Each bent triangle's nodes, their displacement, and whether they are on its curved side.
+    bent: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
     for t, k, c in zip(tri.tolist(), side.tolist(), which.tolist(), strict=True):
         corners = triangles[t]
         a_id, b_id = corners[k], corners[(k + 1) % 3]
@@ -744,9 +787,8 @@ def _bend(
         A, B, C = points[a_id], points[b_id], points[corners[(k + 2) % 3]]
         matrix = np.column_stack([A - C, B - C])
         lam = np.linalg.solve(matrix, (nodes[own] - C).T).T
-        la, lb = lam[:, 0], lam[:, 1]
-        on = la + lb
-        t_side = np.where(on > 1e-12, lb / np.maximum(on, 1e-300), 0.0)
+        on = lam[:, 0] + lam[:, 1]
+        t_side = np.where(on > 1e-12, lam[:, 1] / np.maximum(on, 1e-300), 0.0)
         # Chain parameter along the segment from a_id to b_id.
         s0, s1 = ends[int(a_id)], ends[int(b_id)]
         param = chains.t0[c] + (s0 + t_side * (s1 - s0)) * (chains.t1[c] - chains.t0[c])
@@ -754,8 +796,24 @@ def _bend(
             chains.outline, int(chains.chain[c]), np.concatenate([[0.0], param, [1.0]])
         )[1:-1]
         chord = (1 - t_side)[:, None] * A + t_side[:, None] * B
-        moved[own] += on[:, None] * (frame.to_local(curve) - chord)
-    return moved
+        shift = on[:, None] * (frame.to_local(curve) - chord)
+        if t in bent:
+            ids, before, side_of = bent[t]
+            bent[t] = (ids, before + shift, side_of | (on > 1 - 1e-9))
+        else:
+            bent[t] = (own, shift, on > 1 - 1e-9)
+    # Inner nodes move by the full displacement, or less where that would fold a cell.
+    moved = nodes.copy()
+    folded = []
+    for t, (ids, shift, side_of) in bent.items():
+        rows = pieces.blocks[9 * t : 9 * t + 9]
+        for factor in (1.0, 0.6, 0.3, 0.0):
+            moved[ids] = nodes[ids] + np.where(side_of[:, None], shift, factor * shift)
+            if np.all(corner_sines(moved[rows]) > 1e3 * COLLINEAR_SIN_TOL):
+                break
+        else:
+            folded.append(t)
+    return moved, np.array(folded, dtype=np.int64)
 
 
 def _place_on_outline(
@@ -841,7 +899,7 @@ def sized_blocks(
     domain = _domain_test(chains, chains.local())
     points = _fill(chains.local(), chains.n, domain, length)
     points = _thin(points, chains.n, domain, length)
-    points = _relax(points, chains.n, domain, length, chains.segments())
+    points, scale = _relax(points, chains.n, domain, length, chains.segments())
     free = points[chains.n :]
     for _ in range(_REPAIRS):
         # 5-6. Conforming triangles, pentagons, worst angles raised.
@@ -851,33 +909,44 @@ def sized_blocks(
                 f"the size field asks for {9 * len(triangles):,} blocks, more than the "
                 f"{MAX_BLOCKS:,} a decomposition makes; give larger sizes"
             )
-        pieces, nodes, chain_nodes, chain_params = _pentagons(chains, local, triangles, region)
-        nodes = _bend(chains, frame, pieces, nodes, local, triangles)
+        weight = length(local) ** -0.5
+        pieces, nodes, chain_nodes, chain_params = _pentagons(chains, local, triangles, weight)
+        nodes, folded = _bend(chains, frame, pieces, nodes, local, triangles)
         nodes, fixed, slide = _place_on_outline(outline, frame, nodes, chain_nodes, chain_params)
-        nodes = WorstAngle().place(nodes, pieces.blocks, Freedom(fixed, slide))
+        asked = checked_sizes(field, frame.to_global(cell_centroids(nodes, pieces.blocks)))
+        nodes = WorstAngle(sizes=asked / frame.scale).place(
+            nodes, pieces.blocks, Freedom(fixed, slide)
+        )
         # 7. The guarantee.
         vertices = frame.to_global(nodes)
         vertices[: len(corners)] = corners
         blocks = pieces.blocks
-        xy = vertices[blocks]
-        diameter = np.sqrt(
-            np.max(np.sum((xy[:, :, None] - xy[:, None]) ** 2, axis=-1), axis=(1, 2))
-        )
-        asked = checked_sizes(field, xy.mean(axis=1))
-        ratio = diameter / asked
+        centroids = cell_centroids(vertices, blocks)
+        ratio = cell_diameters(vertices, blocks) / checked_sizes(field, centroids)
         too_large = ratio > _REPAIR_AT * SIZE_TOLERANCE
-        if not too_large.any():
+        if not too_large.any() and not folded.size:
             break
-        free = _repair(chains, local, triangles, np.unique(pieces.piece[too_large]), length)
-        points = _relax(
-            np.vstack([chains.local(), free]), chains.n, domain, length, chains.segments(), 20
+        bad = np.union1d(pieces.piece[too_large], folded)
+        kept = len(local) - chains.n
+        free = _repair(chains, local, triangles, bad, length, split=folded)
+        points = np.vstack([chains.local(), free])
+        # Only the points near the new ones move (the springs keep the rest length they had).
+        new = points[chains.n + kept :]
+        movable = np.zeros(len(points), dtype=bool)
+        if len(new):
+            from scipy.spatial import cKDTree
+
+            near = cKDTree(new).query(points, distance_upper_bound=3.0 * float(length(new).max()))[0]
+            movable = np.isfinite(near)
+        points, _ = _relax(
+            points, chains.n, domain, length, chains.segments(), 20, movable=movable, scale=scale
         )
         free = points[chains.n :]
     else:
         k = int(np.argmax(ratio))
         raise DomainError(
             f"the size-driven decomposition could not bring every cell within {SIZE_TOLERANCE} "
-            f"times the size asked: cell near {fmt_point(xy[k].mean(axis=0))} is "
+            f"times the size asked: cell near {fmt_point(centroids[k])} is "
             f"{ratio[k]:.3g} times it; the domain may have features smaller than the sizes there"
         )
     _check_convex(vertices, blocks, frame)
@@ -895,13 +964,19 @@ def sized_blocks(
 
 
 def _repair(
-    chains: _Chains, local: np.ndarray, triangles: np.ndarray, bad: np.ndarray, length
+    chains: _Chains,
+    local: np.ndarray,
+    triangles: np.ndarray,
+    bad: np.ndarray,
+    length,
+    split: np.ndarray | None = None,
 ) -> np.ndarray:
     """More points where cells came out too large: the free points, with the new ones.
 
     Every bad triangle gets a point at its centroid; a chain segment of a bad triangle that is
     longer than the side wanted there is split too (the cells along a chain are sized by its
-    segments).
+    segments), and so is every chain segment of the ``split`` triangles (where a curve folded
+    a cell).
     """
     n = len(local)
     key = np.minimum(chains.a, chains.b) * n + np.maximum(chains.a, chains.b)
@@ -910,6 +985,10 @@ def _repair(
     segment = np.flatnonzero(np.isin(key, side_key))
     p, q = local[chains.a[segment]], local[chains.b[segment]]
     long = np.hypot(*(q - p).T) > 1.2 * length(0.5 * (p + q))
+    if split is not None and len(split):
+        folded = triangles[split][:, [[0, 1], [1, 2], [2, 0]]].reshape(-1, 2)
+        folded_key = np.min(folded, axis=1) * n + np.max(folded, axis=1)
+        long |= np.isin(key[segment], folded_key)
     extra = local[triangles[bad]].mean(axis=1)
     free = np.vstack([local[chains.n :], extra])
     if long.any():

@@ -35,7 +35,12 @@ from blockmesh.curves.edges import area_corrections
 from blockmesh.curves.types import Curve
 from blockmesh.decompose import decompose_polygon
 from blockmesh.decompose.conversion import convert_elements, read_element_mesh
-from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, resolve_curves
+from blockmesh.domain.curve_checks import (
+    CHECK_LEVELS,
+    check_curved_blocks,
+    curved_edges,
+    resolve_curves,
+)
 from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
 from blockmesh.domain.sized import DomainGeometry, resized
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
@@ -299,12 +304,14 @@ class Domain:
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
+        curve_levels: int = CHECK_LEVELS,
         **text: str,
     ) -> Domain:
         """Check parsed blocks and build the Domain.
 
         ``made_for`` names what blockmesh decomposed, so that its own blocks failing the checks
         read as "too thin" rather than as a fault in blocks the user never wrote.
+        ``curve_levels`` is how deep curved blocks are refined to be checked.
         """
         try:
             block_ids = check_block_shapes(points, block_ids, repair=made_for is None)
@@ -323,7 +330,7 @@ class Domain:
         boundary = boundary_loops(block_ids, neighbour)
         patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
-        curves = _checked_curves(points, block_ids, edges)
+        curves = _checked_curves(points, block_ids, edges, curve_levels)
         source = None
         if boundary_source is not None:
             source = np.array(
@@ -789,11 +796,11 @@ def _check_text(value: object, what: str) -> str:
 
 
 def _checked_curves(
-    vertices: np.ndarray, blocks: np.ndarray, edges: Mapping | None
+    vertices: np.ndarray, blocks: np.ndarray, edges: Mapping | None, levels: int = CHECK_LEVELS
 ) -> dict[tuple[int, int], Curve]:
     """The curves of ``edges`` bound to their vertices, after the blocks are checked with them."""
     curves = resolve_curves(vertices, blocks, edges)
-    check_curved_blocks(vertices, blocks, curves)
+    check_curved_blocks(vertices, blocks, curves, levels)
     return curves
 
 

@@ -56,6 +56,11 @@ __all__ = ["BYTES_PER_BLOCK", "DomainGeometry", "resized", "size_fits"]
 #: Peak memory of the size-driven decomposition per block made (measured: triangulations, the
 #: relaxation and the optimiser's work arrays; about 1.5 kB, with a margin).
 BYTES_PER_BLOCK = 4096
+#: Depth to which the curved blocks of a sized domain are checked (each of their curved edges
+#: turns by at most a third of :data:`~blockmesh.decompose.sized.CURVE_TURN`, 10 degrees, so
+#: the curve-aware refinement meets no new fold deeper down; the full check would refine each
+#: to 7,776 cells).
+CURVE_CHECK_LEVELS = 3
 #: Points per curved edge when a patch's distance field or a region's polygon is drawn.
 _CURVE_SAMPLES = 32
 
@@ -395,16 +400,17 @@ def resized(
         for k, name in enumerate(domain.region_names)
     }
     try:
-        sized = type(domain).from_blocks(
+        sized = type(domain)._from_parsed(
             made.vertices,
             made.blocks,
             {k: v for k, v in patches.items() if v},
             {k: v for k, v in regions.items() if v},
+            boundary_source=boundary_source or None,
+            edges=curved or None,
+            curve_levels=CURVE_CHECK_LEVELS,
             name=domain.name,
             description=domain.description,
             layout="sized",
-            boundary_source=boundary_source or None,
-            edges=curved or None,
         )
     except DomainError as error:
         raise DomainError(
