@@ -54,6 +54,8 @@ _GIVE_UP = 2
 #: ``_SIZE_OK`` and below, falling to ``_SIZE_SCORE`` at ``_SIZE_LIMIT``, then slowly further
 #: (so a block too large is shrunk at the cost of corners down to about that score, no lower).
 _SIZE_OK, _SIZE_LIMIT, _SIZE_SCORE = 1.35, 1.5, 26.0
+#: The ten pairs of a pentagon's corners (its diameter is the longest of them).
+_PAIRS = np.triu_indices(5, 1)
 
 
 def _block_scores(
@@ -82,9 +84,8 @@ def _block_scores(
     flattest = np.degrees(np.arccos(np.clip(np.nanmin(cosine, axis=1), -1.0, 1.0)))
     score = np.minimum(sharpest, _FLAT_WEIGHT * (180.0 - flattest))
     if sizes is not None:
-        diff = xy[:, :, None, :] - xy[:, None, :, :]
-        diameter = np.sqrt(np.max(np.sum(diff * diff, axis=-1), axis=(1, 2)))
-        ratio = diameter / sizes
+        diff = xy[:, _PAIRS[0]] - xy[:, _PAIRS[1]]
+        ratio = np.sqrt(np.max(diff[..., 0] ** 2 + diff[..., 1] ** 2, axis=1)) / sizes
         falling = (target - _SIZE_SCORE) / (_SIZE_LIMIT - _SIZE_OK)
         size_score = np.where(
             ratio <= _SIZE_LIMIT,

@@ -52,6 +52,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from blockmesh.curves.types import Arc, Curve
 from blockmesh.decompose.optimise import WorstAngle
@@ -100,6 +101,9 @@ _FSCALE = 1.2
 _REPAIRS = 8
 #: Cells above this fraction of the tolerance are repaired (a margin for the final rounding).
 _REPAIR_AT = 0.995
+#: Cells of the templates (before the optimiser) above this ratio to their size are repaired
+#: before the optimiser runs.
+_EARLY_REPAIR = 1.6
 
 
 @dataclass(frozen=True, eq=False)
@@ -901,6 +905,9 @@ def sized_blocks(
     points = _thin(points, chains.n, domain, length)
     points, scale = _relax(points, chains.n, domain, length, chains.segments())
     free = points[chains.n :]
+    optimised_once = False
+    ratio = np.zeros(1)
+    centroids = np.zeros((1, 2))
     for _ in range(_REPAIRS):
         # 5-6. Conforming triangles, pentagons, worst angles raised.
         local, triangles, region = _conforming(chains, free, frame)
@@ -913,19 +920,26 @@ def sized_blocks(
         pieces, nodes, chain_nodes, chain_params = _pentagons(chains, local, triangles, weight)
         nodes, folded = _bend(chains, frame, pieces, nodes, local, triangles)
         nodes, fixed, slide = _place_on_outline(outline, frame, nodes, chain_nodes, chain_params)
-        asked = checked_sizes(field, frame.to_global(cell_centroids(nodes, pieces.blocks)))
-        nodes = WorstAngle(sizes=asked / frame.scale).place(
-            nodes, pieces.blocks, Freedom(fixed, slide)
-        )
-        # 7. The guarantee.
-        vertices = frame.to_global(nodes)
-        vertices[: len(corners)] = corners
         blocks = pieces.blocks
-        centroids = cell_centroids(vertices, blocks)
-        ratio = cell_diameters(vertices, blocks) / checked_sizes(field, centroids)
-        too_large = ratio > _REPAIR_AT * SIZE_TOLERANCE
-        if not too_large.any() and not folded.size:
-            break
+        asked = checked_sizes(field, frame.to_global(cell_centroids(nodes, blocks)))
+        # Cells far too large before the optimiser are repaired first (the optimiser is the
+        # expensive step; it shrinks cells by a few per cent, not by a fifth).
+        early = cell_diameters(nodes, blocks) * frame.scale / asked > _EARLY_REPAIR
+        if (early.any() or folded.size) and not optimised_once:
+            too_large = early
+        else:
+            nodes = WorstAngle(sizes=asked / frame.scale).place(
+                nodes, blocks, Freedom(fixed, slide)
+            )
+            optimised_once = True
+            # 7. The guarantee.
+            vertices = frame.to_global(nodes)
+            vertices[: len(corners)] = corners
+            centroids = cell_centroids(vertices, blocks)
+            ratio = cell_diameters(vertices, blocks) / checked_sizes(field, centroids)
+            too_large = ratio > _REPAIR_AT * SIZE_TOLERANCE
+            if not too_large.any() and not folded.size:
+                break
         bad = np.union1d(pieces.piece[too_large], folded)
         kept = len(local) - chains.n
         free = _repair(chains, local, triangles, bad, length, split=folded)
@@ -934,8 +948,6 @@ def sized_blocks(
         new = points[chains.n + kept :]
         movable = np.zeros(len(points), dtype=bool)
         if len(new):
-            from scipy.spatial import cKDTree
-
             near = cKDTree(new).query(points, distance_upper_bound=3.0 * float(length(new).max()))[0]
             movable = np.isfinite(near)
         points, _ = _relax(

@@ -37,23 +37,33 @@ __all__ = ["SizeReport", "cell_centroids", "cell_diameters", "neighbour_ratios",
 _CHUNK = 1 << 16
 
 
-def _outline(points: np.ndarray, cells: np.ndarray, curves: CurvedEdges | None) -> np.ndarray:
-    """Corners and edge middles of each cell (the curve's middle on curved edges), (M, 2k, 2)."""
-    xy = points[cells]
+def _curved_middles(
+    points: np.ndarray, cells: np.ndarray, curves: CurvedEdges | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The cells with a curved edge, and each one's edge middles (the curve's on curved ones)."""
+    if curves is None or not len(curves):
+        return np.zeros(0, dtype=np.int64), np.zeros((0, cells.shape[1], 2))
+    row, _ = curved_slots(cells, len(points), curves)
+    bent = np.flatnonzero(np.any(row >= 0, axis=1))
+    xy = points[cells[bent]]
     middles = 0.5 * (xy + np.roll(xy, -1, axis=1))
-    if curves is not None and len(curves):
-        row, _ = curved_slots(cells, len(points), curves)
-        slot = np.flatnonzero(row.ravel() >= 0)
-        if slot.size:
-            which = row.ravel()[slot]
-            t = 0.5 * (curves.start[which] + curves.stop[which])
-            bent = np.empty((slot.size, 2))
-            for k in np.unique(curves.curve[which]):
-                sel = curves.curve[which] == k
-                bent[sel] = curves.curves[int(k)].point(t[sel])
-            flat = middles.reshape(-1, 2)
-            flat[slot] = bent
-    return np.concatenate([xy, middles], axis=1)
+    rows = row[bent]
+    slot = rows >= 0
+    which = rows[slot]
+    t = 0.5 * (curves.start[which] + curves.stop[which])
+    on_curve = np.empty((which.size, 2))
+    for k in np.unique(curves.curve[which]):
+        sel = curves.curve[which] == k
+        on_curve[sel] = curves.curves[int(k)].point(t[sel])
+    middles[slot] = on_curve
+    return bent, middles
+
+
+def _diameters(polygons: np.ndarray) -> np.ndarray:
+    """Largest distance between two of each polygon's points, (M, k, 2) -> (M,)."""
+    i, j = np.triu_indices(polygons.shape[1], 1)
+    diff = polygons[:, i] - polygons[:, j]
+    return np.sqrt(np.max(diff[..., 0] ** 2 + diff[..., 1] ** 2, axis=1))
 
 
 def cell_diameters(
@@ -61,16 +71,19 @@ def cell_diameters(
 ) -> np.ndarray:
     """Diameter of every cell: the largest distance between two of its corners or edge middles.
 
-    O(M k^2), in chunks.
+    Only curved edges' middles can be farther than the corners (a point of a straight edge is
+    never farther from anything than both its ends), so only cells with a curved edge look at
+    them. O(M k^2), in chunks.
     """
     points = np.asarray(points, dtype=np.float64)
     cells = np.asarray(cells, dtype=np.int64)
     out = np.empty(len(cells))
     for start in range(0, len(cells), _CHUNK):
         part = cells[start : start + _CHUNK]
-        p = _outline(points, part, curves)
-        diff = p[:, :, None, :] - p[:, None, :, :]
-        out[start : start + len(part)] = np.sqrt(np.max(np.sum(diff * diff, axis=-1), axis=(1, 2)))
+        out[start : start + len(part)] = _diameters(points[part])
+    bent, middles = _curved_middles(points, cells, curves)
+    if bent.size:
+        out[bent] = _diameters(np.concatenate([points[cells[bent]], middles], axis=1))
     return out
 
 

@@ -127,6 +127,8 @@ class SizeSpec:
     gradation : float
     source : str
         Where the spec came from (``"size"``, ``"plate.toml [size]"``), for messages.
+    table : bool
+        Whether it was given as a table (messages then name its keys).
     """
 
     default: float | str | None = None
@@ -136,6 +138,7 @@ class SizeSpec:
     fields: tuple[SizeField, ...] = ()
     gradation: float = DEFAULT_GRADATION
     source: str = "size"
+    table: bool = False
 
     @property
     def needs_domain(self) -> bool:
@@ -149,10 +152,11 @@ class SizeSpec:
         """
         parts: list[SizeField] = []
         where = self.source
+        named = f"{where} default" if self.table else where
         if isinstance(self.default, str):
-            parts.append(Expression(self.default, label=f"{where} default {self.default!r}"))
+            parts.append(Expression(self.default, label=f"{named} {self.default!r}"))
         elif self.default is not None:
-            parts.append(Constant(self.default, label=f"{where} default"))
+            parts.append(Constant(self.default, label=named))
         if self.expression is not None:
             parts.append(
                 Expression(self.expression, label=f"{where} expression {self.expression!r}")
@@ -363,6 +367,7 @@ def _table(raw: Mapping[str, Any], source: str) -> SizeSpec:
         near=nears,
         gradation=gradation,
         source=source,
+        table=True,
     )
 
 
