@@ -10,7 +10,9 @@ on sample points (a triangulation that resolves the field) by one shortest-path 
 source joined to every sample ``j`` at length ``h(y_j) / s``, ``h_g`` at sample ``i`` is ``s``
 times its distance from the source along the triangulation's edges (so it does not leak across a
 hole's gap any sooner than by going round). Between samples, ``h_g(x)`` is the smallest cone
-``h_g(y_j) + s |x - y_j|`` over the nearest samples, and never more than ``h(x)`` itself.
+``h_g(y_j) + s |x - y_j|`` over the nearest samples, and never more than ``h(x)`` itself. So
+the growth is bounded exactly between samples joined by edges, and elsewhere to within ``s``
+times the samples' spacing (a jump of the field between two samples is seen at the samples).
 
 Examples
 --------

@@ -230,8 +230,9 @@ class SizeSpec:
 def _known(name: str, names: Sequence[str], what: str, where: str) -> None:
     if name not in names:
         listed = ", ".join(repr(n) for n in names) or "none"
+        plural = "patches" if what == "patch" else f"{what}s"
         raise UnknownNameError(
-            f"{where} names {what} {name!r}, which the domain does not have ({what}s: {listed})"
+            f"{where} names {what} {name!r}, which the domain does not have ({plural}: {listed})"
         )
 
 
