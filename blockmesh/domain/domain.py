@@ -65,6 +65,7 @@ from blockmesh.errors import (
 from blockmesh.geometry.polygons import interior_angles, signed_area
 from blockmesh.geometry.topology import boundary_loops, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.grading import check_grading
 from blockmesh.refinement.pipeline import refine
 from blockmesh.sizing.fields import SizeField
 from blockmesh.sizing.measure import SizeReport, size_report
@@ -116,6 +117,10 @@ class Domain:
     curves : mapping of (a, b) to Curve
         The curved block edges (read-only view): each curve runs from vertex ``a`` to vertex
         ``b`` (:mod:`blockmesh.curves`); empty when every edge is straight.
+    grading : mapping of (a, b) to float
+        Graded block edges (read-only view): refined, the nodes along edge ``(a, b)`` are spaced
+        geometrically from ``a`` to ``b``, the last piece ``ratio`` times the first
+        (:mod:`blockmesh.refinement.grading`); empty when nothing is graded.
     size_field : SizeField or None
         The size field the blocks were made for (:meth:`with_size`), or None.
     size_gradation : float or None
@@ -135,6 +140,7 @@ class Domain:
     boundary_source: np.ndarray = field(default_factory=_no_source, repr=False)
     block_source: np.ndarray = field(default_factory=_no_source, repr=False)
     curves: Mapping[tuple[int, int], Curve] = field(default_factory=dict)
+    grading: Mapping[tuple[int, int], float] = field(default_factory=dict)
     size_field: SizeField | None = field(default=None, repr=False, compare=False)
     size_gradation: float | None = field(default=None, repr=False, compare=False)
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
@@ -163,6 +169,9 @@ class Domain:
         ):
             raise DomainError("every block needs one region (an index into region_names)")
         object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
+        object.__setattr__(
+            self, "grading", check_grading(self.grading, vertices, blocks, self.curves)
+        )
         self._store(vertices, blocks, boundary, patch, region, neighbour)
 
     def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
@@ -178,6 +187,7 @@ class Domain:
         set_(self, "boundary_source", _boundary_source(self.boundary_source, boundary.shape[0]))
         set_(self, "block_source", _block_source(self.block_source, blocks.shape[0]))
         set_(self, "curves", MappingProxyType(dict(self.curves)))
+        set_(self, "grading", MappingProxyType(dict(self.grading or {})))
 
     @classmethod
     def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
@@ -212,6 +222,7 @@ class Domain:
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
+        grading: Mapping[tuple[int, int], float] | None = None,
     ) -> Domain:
         """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
 
@@ -230,6 +241,10 @@ class Domain:
             their common edges. The vertices are then renumbered in order, leaving out the
             merged ones, and ``blocks`` and ``patches`` refer to the new numbers' old ids as given
             (the merge maps them).
+        grading : mapping of (a, b) to float, optional
+            Graded straight block edges, like blockMesh's ``edgeGrading``: refined, the nodes
+            along edge ``(a, b)`` are spaced geometrically from ``a`` to ``b``, the last piece
+            ``ratio`` times the first, at every level (see :attr:`grading`).
         boundary_source : mapping of (a, b) to (ring, edge), optional
             The polygon edge each boundary edge lies on (see :attr:`boundary_source`); used by
             the polygon constructors.
@@ -279,6 +294,7 @@ class Domain:
             given = points
             points, block_ids, patches = _merged(points, block_ids, patches, merge_tol)
             edges = _merged_edges(edges, given, points)
+            grading = _merged_edges(grading, given, points)
         return cls._from_parsed(
             points,
             block_ids,
@@ -290,6 +306,7 @@ class Domain:
             boundary_source=boundary_source,
             block_source=block_source,
             edges=edges,
+            grading=grading,
         )
 
     @classmethod
@@ -305,6 +322,7 @@ class Domain:
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
         curve_levels: int = CHECK_LEVELS,
+        grading: Mapping[tuple[int, int], float] | None = None,
         **text: str,
     ) -> Domain:
         """Check parsed blocks and build the Domain.
@@ -331,6 +349,7 @@ class Domain:
         patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
         curves = _checked_curves(points, block_ids, edges, curve_levels)
+        graded = check_grading(grading, points, block_ids, curves)
         source = None
         if boundary_source is not None:
             source = np.array(
@@ -352,6 +371,7 @@ class Domain:
             boundary_source=source,
             block_source=block_source,
             curves=curves,
+            grading=graded,
         )
 
     @classmethod
@@ -1069,6 +1089,7 @@ def _geometry_from_raw(raw: dict[str, Any], *, source: str) -> Domain:
             boundary_source=_source_table(raw.get("boundary_source")),
             block_source=_source_list(raw.get("block_source")),
             edges=raw.get("edges"),
+            grading=raw.get("grading"),
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None

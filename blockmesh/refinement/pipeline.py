@@ -36,6 +36,7 @@ from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
+from blockmesh.refinement.grading import graded_mesh
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
 from blockmesh.refinement.placement import (
     LaplacianSmoothing,
@@ -91,7 +92,9 @@ def refine(
     ----------
     domain_or_mesh : Domain or Mesh
         A Domain is refined from its block mesh (level 0); a Mesh from its own cells, so
-        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)``.
+        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)`` (for a domain without a grading:
+        the graded edges of a Domain's ``grading`` are spaced geometrically at the level made,
+        :mod:`blockmesh.refinement.grading`).
     level : int
         How many times each cell is split (>= 0). The result's ``level`` is the input's plus this.
     numbering : {"nested", "rcm"}
@@ -160,6 +163,9 @@ def refine(
             "although the prediction fitted (other programs may be using memory); try a lower "
             "level or free memory"
         ) from None
+    grading = getattr(domain_or_mesh, "grading", None)
+    if grading and not isinstance(domain_or_mesh, Mesh):
+        mesh = graded_mesh(base, mesh, grading)
     if numbering == "rcm":
         mesh = mesh.with_rcm_numbering()
     return mesh
