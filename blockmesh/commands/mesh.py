@@ -76,6 +76,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "and the level refines them further (6**L cells each)",
     )
     parser.add_argument(
+        "--uniform",
+        action="store_true",
+        help="corner-true: instead of refining the blocks LEVEL times (where the cells at block "
+        "corners grow 1.5 times per level relative to the others), cut the domain into cells of "
+        "one size, about as many as LEVEL would make",
+    )
+    parser.add_argument(
         "--gradation",
         type=float,
         metavar="R",
@@ -193,6 +200,12 @@ def _stage(progress: StageProgress, label: str, prediction) -> Iterator[Callable
 def _sized(target: Domain | Mesh, options: dict[str, Any], progress: StageProgress):
     """The domain cut to ``--size`` (when given), and the level to refine it to."""
     size = options["size"]
+    if options.get("uniform"):
+        if isinstance(target, Mesh):
+            raise BlockMeshError("--uniform cuts a domain into cells; give the domain, not a mesh")
+        level = options["level"] if options["level"] is not None else DEFAULT_LEVEL
+        with progress.stage("cutting into cells of one size"):
+            return target.uniform(level, max_memory=options["max_memory"]), 0
     if size is None:
         sized = isinstance(target, Domain) and target.size_field is not None
         level = options["level"] if options["level"] is not None else 0 if sized else DEFAULT_LEVEL
@@ -322,6 +335,8 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    if args.uniform and args.size is not None:
+        raise BlockMeshError("give --uniform (one size, the count of --level) or --size, not both")
     if args.gradation is not None and args.size is None:
         raise BlockMeshError("--gradation goes with --size (how fast the sizes asked may grow)")
     size = None
@@ -338,6 +353,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     return {
         "level": args.level,
         "size": size,
+        "uniform": args.uniform,
         "gradation": args.gradation,
         "size_plot": args.size_plot,
         "numbering": args.numbering,
@@ -404,6 +420,7 @@ def _size_lines(report: dict[str, Any]) -> list[str]:
 # ---------------------------------------------------------------------------- partitioned
 _NOT_PARTITIONED = {
     "size": "--size",
+    "uniform": "--uniform",
     "size_plot": "--size-plot",
     "plot": "--plot",
     "quality_plot": "--quality-plot",

@@ -176,3 +176,27 @@ THRESHOLDS = [
 @pytest.mark.parametrize("name, spec", THRESHOLDS)
 def test_distance_threshold_fields(name, spec):
     check_sized(blockmesh.load_domain(name), spec)
+
+
+def _corner_share(domain, corner) -> float:
+    """The largest cell at ``corner`` over the mean cell area."""
+    v = int(np.argmin(np.hypot(*(domain.vertices - corner).T)))
+    areas = domain.block_areas()
+    return float(areas[np.any(domain.blocks == v, axis=1)].max() / areas.mean())
+
+
+def test_uniform_is_corner_true():
+    d = blockmesh.load_domain("l-shape")
+    shares_paper, shares_uniform = [], []
+    for level in (1, 2, 3):
+        mesh = d.mesh(level)
+        v = int(np.argmin(np.hypot(*(mesh.points - [1, 1]).T)))
+        areas = mesh.cell_areas()
+        shares_paper.append(areas[np.any(mesh.cells == v, axis=1)].max() / areas.mean())
+        even = d.uniform(level)
+        assert 0.6 < even.n_blocks / mesh.n_cells < 1.6
+        shares_uniform.append(_corner_share(even, [1, 1]))
+        assert even.size_report().neighbour_ratio <= NEIGHBOUR_RATIO
+    # The paper's corner cell grows 1.5 times per level; the uniform one does not grow.
+    assert shares_paper[-1] / shares_paper[0] > 2.0
+    assert max(shares_uniform) < 2.0
