@@ -4,4 +4,5 @@ import sys
 
 from blockmesh.cli import main
 
-sys.exit(main())
+if __name__ == "__main__":  # not when imported (documentation tools import every module)
+    sys.exit(main())

@@ -43,7 +43,7 @@ def _madvise():
 
 
 def populate(array: np.ndarray, start: int = 0, stop: int | None = None) -> bool:
-    """Make bytes ``start .. stop`` of ``array``'s memory resident; False where unsupported.
+    """Make bytes ``start`` to ``stop`` of ``array``'s memory resident; False where unsupported.
 
     Only whole pages inside the range are populated (never memory outside the array).
 

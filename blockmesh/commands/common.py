@@ -12,11 +12,11 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh import io as mesh_io
 from blockmesh.commands._progress import StageProgress
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
-from blockmesh.io import FORMATS, read
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
@@ -113,9 +113,10 @@ def is_mesh_file(name: str) -> bool:
     path = Path(name)
     if not path.exists():  # a catalogue name: the formats are not imported
         return False
-
     suffix = path.suffix.lower()
-    extensions = {ext for fmt in FORMATS.values() if fmt.can_read for ext in fmt.extensions}
+    # The registry imports every format module: asked for only when a file name needs it.
+    readable = mesh_io.FORMATS.values()
+    extensions = {ext for fmt in readable if fmt.can_read for ext in fmt.extensions}
     return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())
 
 
@@ -130,7 +131,7 @@ def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
 
     try:
         with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):
-            return read(name)
+            return mesh_io.read(name)
     except ExportError as error:
         raise ExportError(
             f"{error}. If {name} is a triangle or quadrilateral mesh rather than one blockmesh "

@@ -187,9 +187,9 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
         young=args.young,
         poisson=args.poisson_ratio,
         plane=args.plane,
-        body_force=args.source or "0, 0",
-        displacement=dirichlet,
-        traction=neumann,
+        source=args.source or "0, 0",
+        dirichlet=dirichlet,
+        neumann=neumann,
         **common,
     )
 

@@ -48,6 +48,7 @@ from blockmesh import io as blockmesh_io
 from blockmesh._moved import removed_names
 from blockmesh.decompose.optimise import WorstAngle
 from blockmesh.decompose.pieces import pentagons_from_pieces
+from blockmesh.decompose.triangulate import constrained_delaunay
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, DomainError, DomainFormatError
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
 from blockmesh.mesh.mesh import Mesh
@@ -429,7 +430,7 @@ def _convex_parts(local: np.ndarray, corners: np.ndarray) -> list[np.ndarray]:
     import shapely
 
     polygon = shapely.Polygon(local[corners])
-    parts = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
+    parts = shapely.get_parts(constrained_delaunay(polygon))
     ids = {tuple(p): k for p, k in zip(local[corners].tolist(), corners.tolist(), strict=True)}
     out = []
     for tri in parts:

@@ -1,20 +1,20 @@
 """Composite quadrature over all-pentagon meshes: the paper's rule and cheaper ones.
 
 Every rule cuts each (convex) cell into sectors ``(c, γ)`` — an apex and an edge — and
-integrates over each one in collapsed coordinates,
+integrates over each one in collapsed coordinates::
 
     ∫∫_sector f = ∫_0^1 ∫_0^1 r f((1 - r) c + r γ(s)) |det(γ(s) - c, γ'(s))| dr ds,
 
 with a tensor Gauss rule in ``(r, s)``; for a straight edge the determinant is twice the
 triangle's area. The rules (``order = n``, :mod:`.registry`):
 
-======  =================================  ============================  ==========  ======
-rule    triangles per cell                 points in (r, s) per triangle  per cell    degree
-======  =================================  ============================  ==========  ======
-paper   5, apex at the cell's vertex mean  (n+1) Gauss-Legendre x n GL   5 n (n+1)   2n - 1
-jacobi  5, apex at the cell's vertex mean  n Gauss-Jacobi(0, 1) x n GL   5 n^2       2n - 1
-fan     3, fanned from the cell's corner 0 n Gauss-Jacobi(0, 1) x n GL   3 n^2       2n - 1
-======  =================================  ============================  ==========  ======
+======  ==================================  =============================  ==========  ======
+rule    triangles per cell                  points in (r, s) per triangle  per cell    degree
+======  ==================================  =============================  ==========  ======
+paper   5, apex at the cell's vertex mean   (n+1) Gauss-Legendre x n GL    5 n (n+1)   2n - 1
+jacobi  5, apex at the cell's vertex mean   n Gauss-Jacobi(0, 1) x n GL    5 n^2       2n - 1
+fan     3, fanned from the cell's corner 0  n Gauss-Jacobi(0, 1) x n GL    3 n^2       2n - 1
+======  ==================================  =============================  ==========  ======
 
 ``"paper"`` is the rule of the seed's FIFTH program and reproduces Tables 1-11
 (:mod:`blockmesh.tables`; the convention is in ``docs/mathematics.md`` §6). Here each point is

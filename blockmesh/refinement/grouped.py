@@ -47,7 +47,7 @@ from blockmesh.refinement.plan import (
     place_level,
     plan_refinement,
 )
-from blockmesh.refinement.template import node_count, pentagon_template
+from blockmesh.refinement.template import LevelStep, node_count, pentagon_template
 
 if TYPE_CHECKING:
     from blockmesh.mesh.mesh import Mesh
@@ -155,13 +155,14 @@ def refine_blocks(
         if direct:
             _place_finest_level(
                 local,
+                template.steps[-1],
                 level,
                 plan.offsets[level, b0:b1],
                 patterns,
                 points,
                 work.scratch,
             )
-        group_node_ids(plan, b0, b1, edge_ids[b0:b1], out=ids)
+        group_node_ids(plan, b0, b1, edge_ids[b0:b1], out=ids, template=template)
         if direct:
             for block in curved_here:
                 k = block - b0
@@ -255,6 +256,7 @@ def workspace_bytes(n_blocks: int, level: int) -> int:
 
 def _place_finest_level(
     local: np.ndarray,
+    step: LevelStep,
     level: int,
     offsets: np.ndarray,
     patterns: list[NodePattern],
@@ -266,7 +268,6 @@ def _place_finest_level(
     Block k of the group numbers its own nodes of this level from ``offsets[k]`` on, in the order
     of their slots (``patterns[k].last_source``); the others belong to lower blocks.
     """
-    step = pentagon_template(level).steps[-1]
     n_parents = step.corners.shape[1]
     chunk = scratch.chunk
     where = [_finest_positions(level, pattern.taken, chunk) for pattern in patterns]

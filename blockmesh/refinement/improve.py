@@ -34,7 +34,7 @@ from typing import Literal, overload
 import numpy as np
 
 from blockmesh.checks import choice, whole_number
-from blockmesh.errors import ArgumentTypeError
+from blockmesh.errors import ArgumentError, ArgumentTypeError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.pipeline import refine
 from blockmesh.refinement.placement import (
@@ -47,6 +47,7 @@ from blockmesh.refinement.placement import (
 from blockmesh.refinement.shape import PlacementReport, ShapeEnergy, optimize_points
 
 __all__ = [
+    "ANGLE_TIE",
     "QUALITY_RULES",
     "SIZE_TARGETS",
     "PlacementReport",
@@ -182,14 +183,38 @@ def optimize_nodes(
     return (better, info) if report else better
 
 
+#: Worst angles (degrees) this close to the best are a tie in :func:`inner_point_rule`. Candidates
+#: whose worst corner is one the inner points do not touch have the same worst angle computed
+#: from different points: equal but for rounding (3e-14 degrees apart was seen), so a plain
+#: maximum picked among them by that noise.
+ANGLE_TIE = 1e-9
+
+
+def _pick_fraction(fractions: np.ndarray, angles: np.ndarray) -> int | None:
+    """The index of the fraction :func:`inner_point_rule` takes, or None if no candidate is valid.
+
+    The largest worst angle wins; candidates within :data:`ANGLE_TIE` of it are a tie, won by the
+    fraction nearest the paper's 1/2, then by the smaller one. The choice depends on the set of
+    (fraction, angle) pairs only, not on their order or on rounding noise in equal angles.
+    """
+    valid = np.isfinite(angles)
+    if not valid.any():
+        return None
+    tied = np.flatnonzero(valid & (angles >= angles[valid].max() - ANGLE_TIE))
+    order = np.lexsort((fractions[tied], np.abs(fractions[tied] - 0.5)))
+    return int(tied[order[0]])
+
+
 def inner_point_rule(
     target, level: int, *, fractions: tuple[float, ...] = (0.35, 0.4, 0.45, 0.5, 0.55, 0.6)
 ) -> Mesh:
     """Refine level by level, each time with the inner points ``w = p + t (u - p)``.
 
-    ``t`` is chosen per level among ``fractions`` to maximise the worst angle of the new level
-    (``t = 1/2`` is the paper's rule). Nested (old nodes never move), conforming, and with the
-    paper's counts.
+    ``t`` is chosen per level among ``fractions`` (each in (0, 1)) to maximise the worst angle of
+    the new level (``t = 1/2`` is the paper's rule). Worst angles within :data:`ANGLE_TIE` degrees
+    of the best tie, and a tie goes to the fraction nearest 1/2 (then the smaller): the choice does
+    not depend on the order of ``fractions`` or on rounding. Nested (old nodes never move),
+    conforming, and with the paper's counts.
 
     Examples
     --------
@@ -200,25 +225,48 @@ def inner_point_rule(
     (216, True)
     """
     level = whole_number(level, "level")
+    ts = _check_fractions(fractions)
     mesh = refine(target, 0)
     for _ in range(level):
         child = refine(mesh, 1)
-        parents = mesh.cells
-        centre = mesh.points[parents].mean(axis=1)  # the paper's p, per parent
-        cells = child.cells.reshape(-1, 6, 5)
-        inner = cells[:, 5, :]  # w_1..w_5 of every parent
-        mids = cells[:, :5, 1]  # u_k is corner 1 of child k
-        best, best_angle = child, -np.inf
-        for t in fractions:
-            xy = child.points.copy()
-            moved = centre[:, None, :] + t * (child.points[mids] - centre[:, None, :])
-            xy[inner.ravel()] = moved.reshape(-1, 2)
-            trial = child.with_points(xy)
-            quality = trial.quality()
-            if quality.not_strictly_convex == 0 and quality.min_angle > best_angle:
-                best, best_angle = trial, quality.min_angle
-        mesh = best
+        centre = mesh.points[mesh.cells].mean(axis=1)  # the paper's p, per parent
+        angles = np.full(ts.size, -np.inf)  # one trial mesh at a time in memory
+        for k, t in enumerate(ts):
+            quality = _inner_points_at(child, centre, float(t)).quality()
+            if quality.not_strictly_convex == 0:
+                angles[k] = quality.min_angle
+        best = _pick_fraction(ts, angles)
+        mesh = child if best is None else _inner_points_at(child, centre, float(ts[best]))
     return mesh
+
+
+def _inner_points_at(child: Mesh, centre: np.ndarray, t: float) -> Mesh:
+    """``child`` (one level of the paper's refinement) with ``w = p + t (u - p)`` per parent."""
+    cells = child.cells.reshape(-1, 6, 5)
+    inner = cells[:, 5, :]  # w_1..w_5 of every parent
+    mids = cells[:, :5, 1]  # u_k is corner 1 of child k
+    xy = child.points.copy()
+    moved = centre[:, None, :] + t * (child.points[mids] - centre[:, None, :])
+    xy[inner.ravel()] = moved.reshape(-1, 2)
+    return child.with_points(xy)
+
+
+def _check_fractions(fractions: object) -> np.ndarray:
+    """``fractions`` as a float array, or a located error: a non-empty sequence in (0, 1)."""
+    try:
+        ts = np.array(fractions, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(
+            f"fractions must be a sequence of numbers, got {fractions!r}"
+        ) from None
+    if ts.ndim != 1 or ts.size == 0:
+        raise ArgumentError(f"fractions must be a non-empty sequence of numbers, got {fractions!r}")
+    outside = np.flatnonzero(~((ts > 0) & (ts < 1)))
+    if outside.size:
+        raise ArgumentError(
+            f"fractions must lie in (0, 1): fractions[{outside[0]}] = {float(ts[outside[0]])!r}"
+        )
+    return ts
 
 
 def refine_with_rule(

@@ -218,16 +218,16 @@ def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, 
     """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
     plan = plan_refinement(base.cells, neighbour, base.n_points, level)
     edge_ids = edge_id_table(plan)
-    ids = group_node_ids(plan, 0, base.n_cells, edge_ids)
     template = pentagon_template(level)
+    ids = group_node_ids(plan, 0, base.n_cells, edge_ids, template=template)
     local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
     local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
     points = np.empty(plan.n_nodes, dtype=np.complex128)
-    fixed = block_edge_nodes(ids, level)
+    fixed = block_edge_nodes(ids, template)
     for step in range(1, level + 1):
         lo, hi = node_count(step - 1), node_count(step)
         _place_level(local, template.steps[step - 1], lo)
-        level_cells = ids[:, pentagon_template(step).cells].reshape(-1, 5)
+        level_cells = ids[:, template.cells_of_level(step)].reshape(-1, 5)
         points[ids[:, :hi]] = local[:, :hi]
         n_level = int(ids[:, :hi].max()) + 1
         xy = points.view(np.float64).reshape(-1, 2)

@@ -287,11 +287,13 @@ def group_node_ids(
     stop: int,
     edge_ids: np.ndarray,
     out: np.ndarray | None = None,
+    template: PentagonTemplate | None = None,
 ) -> np.ndarray:
-    """Global ids of the template nodes of blocks ``first .. stop-1``, (G, n_L) int64.
+    """Global ids of the template nodes of blocks ``first`` to ``stop - 1``, (G, n_L) int64.
 
     ``edge_ids`` (G, 5, 2^L + 1) are the ids along the blocks' edges (rows of
-    :func:`edge_id_table`); ``out`` (G, n_L) int64 is filled and returned when given. Each of a
+    :func:`edge_id_table`); ``out`` (G, n_L) int64 is filled and returned when given;
+    ``template`` is the plan's level's template when the caller holds it already. Each of a
     block's own nodes is its level's offset plus its rank (:func:`node_pattern`), the corners and
     edges come from ``edge_ids``. O(G n_L).
 
@@ -303,7 +305,8 @@ def group_node_ids(
     >>> bool(np.array_equal(ids[0], np.arange(65)))
     True
     """
-    template = pentagon_template(plan.steps)
+    if template is None:
+        template = pentagon_template(plan.steps)
     ids = np.empty((stop - first, template.n_nodes), dtype=np.int64) if out is None else out
     bounds = _level_bounds(plan.steps)
     for k, block in enumerate(range(first, stop)):
@@ -410,7 +413,7 @@ def chunk_coordinates(
     *,
     slot_major: bool = False,
 ) -> np.ndarray:
-    """The midpoints and inner points of parent cells ``j0 .. j1-1`` of every block.
+    """The midpoints and inner points of parent cells ``j0`` to ``j1 - 1`` of every block.
 
     Returns a view into ``scratch``, (B, 10 (j1 - j0)) complex128: slot ``10 j + k`` holds
     ``u_k`` (k < 5) or ``w_(k-5)`` of parent ``j0 + j`` (``step.source`` says which slot each

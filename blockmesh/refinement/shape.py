@@ -2,7 +2,7 @@
 
 The energy is the sum over all cell corners of the corner's distortion from the corner of a
 regular polygon with the same number of vertices (Knupp's condition number of the corner's
-Jacobian against the ideal one):
+Jacobian against the ideal one)::
 
     μ = |A W⁻¹|²_F / (2 det(A W⁻¹)) >= 1,
 
@@ -183,8 +183,23 @@ def optimize_points(
     return moved, PlacementReport(start, end, steps, int(interior.size), int(sliding.size))
 
 
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    """``a · b`` summed in one fixed order (numpy's pairwise sum), whatever the BLAS threads.
+
+    ``a @ b`` is BLAS's ``ddot``, which OpenBLAS splits over its threads for long vectors (above
+    about 10,000 entries): each thread's partial sum rounds differently, so the same placement
+    differed in the last bits with ``OPENBLAS_NUM_THREADS=1`` and ``2``, and the descent, which
+    amplifies such bits, ended at worst angles that differed from the eighth digit on.
+    """
+    return float(np.add.reduce(a * b))
+
+
 def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
-    """Limited-memory BFGS with backtracking (Armijo); infinite energies are rejected steps."""
+    """Limited-memory BFGS with backtracking (Armijo); infinite energies are rejected steps.
+
+    Every inner product is :func:`_dot`, so the iterates are the same bits for any number of
+    BLAS threads.
+    """
     value, gradient = energy(z, True)
     history: list[tuple[np.ndarray, np.ndarray, float]] = []
     done = 0
@@ -192,20 +207,20 @@ def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
         q = gradient.copy()
         alphas = []
         for s, y, rho in reversed(history):
-            alpha = rho * (s @ q)
+            alpha = rho * _dot(s, q)
             q -= alpha * y
             alphas.append(alpha)
         if history:
             s, y, _ = history[-1]
-            q *= (s @ y) / (y @ y)
+            q *= _dot(s, y) / _dot(y, y)
         else:
             q *= 1e-2 / max(float(np.abs(q).max()), 1e-300)
         for (s, y, rho), alpha in zip(history, reversed(alphas), strict=True):
-            q += s * (alpha - rho * (y @ q))
+            q += s * (alpha - rho * _dot(y, q))
         step = -q
-        slope = float(gradient @ step)
+        slope = _dot(gradient, step)
         if slope >= 0:
-            step, slope, history = -gradient, -float(gradient @ gradient), []
+            step, slope, history = -gradient, -_dot(gradient, gradient), []
         t = 1.0
         while True:
             trial, _ = energy(z + t * step, False)
@@ -217,8 +232,9 @@ def _lbfgs(energy, z: np.ndarray, iterations: int, tol: float, memory: int = 8):
         z_new = z + t * step
         value_new, gradient_new = energy(z_new, True)
         s, y = z_new - z, gradient_new - gradient
-        if s @ y > 1e-300:
-            history.append((s, y, 1.0 / (s @ y)))
+        sy = _dot(s, y)
+        if sy > 1e-300:
+            history.append((s, y, 1.0 / sy))
             history = history[-memory:]
         improvement = value - value_new
         z, value, gradient = z_new, value_new, gradient_new

@@ -19,20 +19,19 @@ True
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
 
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, corner_sines
-from blockmesh.refinement.template import pentagon_template
+from blockmesh.refinement.template import PentagonTemplate
 
 __all__ = ["block_edge_nodes", "smooth_interior"]
 
 
-def block_edge_nodes(ids: np.ndarray, level: int) -> np.ndarray:
+def block_edge_nodes(ids: np.ndarray, template: PentagonTemplate) -> np.ndarray:
     """Mask over all final nodes: True for the nodes on the edges of the base cells.
 
-    ``ids`` are the global ids of every base cell's template nodes, shape (B, n_L).
+    ``ids`` are the global ids of every base cell's nodes in ``template``, shape (B, n_L).
     """
-    along = pentagon_template(level).edge_nodes  # (5, 2^L + 1)
+    along = template.edge_nodes  # (5, 2^L + 1)
     fixed = np.zeros(int(ids.max()) + 1, dtype=bool)
     fixed[ids[:, along.ravel()]] = True
     return fixed
@@ -52,6 +51,8 @@ def smooth_interior(
     it shares an edge with, then puts back, repeatedly, the nodes of any cell that is no longer
     strictly convex. O(sweeps * M) per call.
     """
+    from scipy.sparse import coo_matrix  # 0.7 s to import: only when smoothing runs
+
     start = cells.ravel()
     stop = np.roll(cells, -1, axis=1).ravel()
     adjacency = coo_matrix(

@@ -133,6 +133,22 @@ class PentagonTemplate:
         """Number of local nodes ``n_L``."""
         return node_count(self.level)
 
+    def cells_of_level(self, level: int) -> np.ndarray:
+        """The cells of a coarser level ``0 <= level <= self.level`` (the nested numbering's).
+
+        Read from this template (each step keeps its parents' corners), so a refinement that
+        holds the finest template never fetches a coarser one.
+
+        Examples
+        --------
+        >>> t = pentagon_template(3)
+        >>> bool(np.array_equal(t.cells_of_level(2), pentagon_template(2).cells))
+        True
+        """
+        if level == self.level:
+            return self.cells
+        return self.steps[level].corners.T
+
     @property
     def nbytes(self) -> int:
         """Bytes held by the template's arrays."""

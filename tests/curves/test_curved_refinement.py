@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import USP
+from helpers import USP, examples
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
@@ -152,7 +152,7 @@ def pentagons_with_arcs(draw):
     return points, [r if c else None for r, c in zip(ratios, curved, strict=True)]
 
 
-@settings(max_examples=80, deadline=None)
+@settings(max_examples=examples(80))
 @given(pentagons_with_arcs())
 def test_random_blocks_with_random_arcs_refine_or_are_refused_up_front(case):
     points, ratios = case

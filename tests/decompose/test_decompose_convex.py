@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from helpers import examples
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -163,7 +164,7 @@ def thin_quads(draw: st.DrawFn) -> np.ndarray:
 # --- properties ---------------------------------------------------------------------------
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200))
 @given(ellipse_polygons())
 def test_random_convex_polygons_split_conformingly(polygon: np.ndarray) -> None:
     if len(polygon) <= 4:
@@ -177,7 +178,6 @@ def test_random_convex_polygons_split_conformingly(polygon: np.ndarray) -> None:
     assert_valid(polygon, decompose_convex_polygon(polygon))
 
 
-@settings(max_examples=100, deadline=None)
 @given(ellipse_polygons(6, 16))
 def test_star_kept_only_when_better(polygon: np.ndarray) -> None:
     d = decompose_convex_polygon(polygon)
@@ -198,7 +198,7 @@ def test_star_kept_only_when_better(polygon: np.ndarray) -> None:
         assert np.minimum(theta, 180 - theta).min() == star.score
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=examples(150))
 @given(st.one_of(thin_triangles(), thin_quads()))
 def test_near_degenerate_triangles_and_quads(polygon: np.ndarray) -> None:
     assert_valid(polygon, decompose_convex_polygon(polygon))

@@ -453,7 +453,7 @@ def test_no_space_on_the_command_line(
     for argv in (
         ["mesh", "sp", "--level", "1", "-o", str(tmp_path / "m.vtu")],
         ["mesh", "sp", "--level", "1", "--plot", str(tmp_path / "m.png")],
-        ["tables", "--csv", str(tmp_path / "t.csv")],
+        ["tables", "--table", "1", "--levels", "1", "--csv", str(tmp_path / "t.csv")],
     ):
         code, _, err = run_cli(capsys, *argv)
         assert code == 2, err

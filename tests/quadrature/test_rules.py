@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -58,7 +59,7 @@ def _monomial_errors(points, rule: str, n: int, degree: int):
     return worst
 
 
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=examples(20))
 @given(convex_pentagons(), st.sampled_from(tuple(RULES)))
 def test_every_monomial_up_to_degree_2n_minus_1_is_exact(points, rule):
     for n in range(1, 9):

@@ -2,18 +2,18 @@
 
 Variables (every index and id 1-based, as MATLAB counts):
 
-================ ============================================================================
-``Node``         N x 2 double, the node coordinates
-``Element``      M x 1 cell array; ``Element{k}`` is a 1 x 5 double row of the node ids of cell
-                 k, counter-clockwise (what PolyMesher and VEM codes take)
+================= ============================================================================
+``Node``          N x 2 double, the node coordinates
+``Element``       M x 1 cell array; ``Element{k}`` is a 1 x 5 double row of the node ids of cell
+                  k, counter-clockwise (what PolyMesher and VEM codes take)
 ``BoundaryNodes`` struct, one field per patch: the sorted node ids on that patch (column)
 ``BoundaryEdges`` struct, one field per patch: E x 2 node ids, domain on the left of each edge
-``BlockId``      M x 1, the block of each cell (block id + 1)
-``Region``       M x 1, index into ``RegionNames``
-``Parent``       M x 1, the cell's parent at the previous level (0 at level 0)
-``PatchNames``   1 x P cell array of char; ``RegionNames`` likewise
-``Level``        the refinement level; ``Name`` the mesh name
-================ ============================================================================
+``BlockId``       M x 1, the block of each cell (block id + 1)
+``Region``        M x 1, index into ``RegionNames``
+``Parent``        M x 1, the cell's parent at the previous level (0 at level 0)
+``PatchNames``    1 x P cell array of char; ``RegionNames`` likewise
+``Level``         the refinement level; ``Name`` the mesh name
+================= ============================================================================
 
 Struct field names are the patch names made valid MATLAB identifiers (other characters become
 ``_``, a leading non-letter gets ``p_``); fields are in ``PatchNames`` order, which is how

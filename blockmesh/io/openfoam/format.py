@@ -58,7 +58,7 @@ __all__ = ["EMPTY_PATCH", "FORMAT", "foam_word", "polymesh_dir", "read_openfoam"
 
 
 def foam_word(name: str) -> str:
-    """``name`` made a valid OpenFOAM word (letters, digits and ``_ - . :`` only).
+    """``name`` made a valid OpenFOAM word (letters, digits, ``_``, ``-``, ``.`` and ``:`` only).
 
     Examples
     --------

@@ -113,7 +113,7 @@ _UNIFORM = re.compile(rb"^(\d+)\s*\{(.*)\}\s*;?$")
 def read_list(
     r: TextReader, cols: int, dtype: type, *, skip: int = 0, out_dtype: type | None = None
 ) -> tuple[int, np.ndarray]:
-    """The count and the rows ``skip..`` of the next list ``N ( ... )`` (one item a line).
+    """The count and the rows from ``skip`` on of the next list ``N ( items )`` (one item a line).
 
     Items ``(x y z)`` and ``4(a b c d)`` are read as plain numbers (the parentheses are blanks).
     Short lists written on one line (``3(0 1 2)``) and uniform lists (``3{7}``) are read too.
@@ -194,7 +194,7 @@ def read_boundary(poly: Path) -> list[dict[str, str]]:
 
 
 def read_faces(poly: Path, ranges: list[tuple[int, int, int]]) -> list[np.ndarray]:
-    """The faces ``start .. start + count - 1`` of ``poly/faces``, each of ``size`` nodes.
+    """The faces ``start`` to ``start + count - 1`` of ``poly/faces``, each of ``size`` nodes.
 
     ``ranges`` are ``(start, count, size)``, in increasing order of ``start``; returns one
     ``(count, size)`` array of node ids each. Faces before and between are skipped, not parsed.

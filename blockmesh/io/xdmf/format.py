@@ -8,13 +8,13 @@ a ``Mixed`` topology of the pentagons (``Polygon`` of 5 nodes) followed by the b
 grid attributes (ParaView shows them as field data: the index each name has), and an
 ``Information`` element ``blockmesh`` with the JSON metadata. The ``.h5`` file holds
 
-============================ ============== ===============================================
-``/mesh/points``             (N, 2) f8      node coordinates
-``/mesh/topology``           (7M + 4Eb,) i8 per pentagon ``3 5 v0 .. v4``, per boundary edge
-                                            ``2 2 a b`` (XDMF's mixed layout)
-``/mesh/block_id``, ``/mesh/region``, ``/mesh/parent``, ``/mesh/patch``
-                             (M + Eb,) i8   cell data, -1 where it does not apply
-============================ ============== ===============================================
+===================== ============== =========================================================
+``/mesh/points``      (N, 2) f8      node coordinates
+``/mesh/topology``    (7M + 4Eb,) i8 per pentagon ``3 5 v0 .. v4``, per boundary edge ``2 2 a b``
+                                     (XDMF's mixed layout)
+``/mesh/block_id``    (M + Eb,) i8   cell data, -1 where it does not apply; likewise
+                                     ``/mesh/region``, ``/mesh/parent`` and ``/mesh/patch``
+===================== ============== =========================================================
 
 and the root attribute ``blockmesh`` (the same JSON). The cells, in h5py:
 ``f["mesh/topology"][: 7 * M].reshape(M, 7)[:, 2:]``.

@@ -13,6 +13,7 @@ import warnings
 from unittest import mock
 
 import numpy as np
+from helpers import examples
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -62,19 +63,19 @@ def _exercise(text: str) -> None:
             f.polynomial()
 
 
-@settings(max_examples=600, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(600), suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.sampled_from(_TOKENS), max_size=24).map("".join))
 def test_token_soup(text):
     _exercise(text)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=examples(300))
 @given(st.text(max_size=60))
 def test_random_text(text):
     _exercise(text)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200))
 @given(
     st.recursive(
         st.sampled_from(["x", "y", "2", "0.5", "pi", "1e300", "1e-300"]),

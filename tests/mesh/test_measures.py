@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -73,7 +74,7 @@ def _trusted(points, cells) -> Mesh:
     )
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60))
 @given(
     st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=5, max_size=40).filter(
         lambda p: len(set(p)) == len(p)
@@ -128,7 +129,7 @@ def _same_bits(points, cells) -> None:
     assert np.array_equal(got.view(np.int64), expected.view(np.int64))  # every bit, signs of zero
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60))
 @given(
     st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=5, max_size=40),
     st.integers(0, 2**32 - 1),

@@ -134,7 +134,6 @@ def test_reading_a_mesh_file_shows_a_stage_line(capsys, tmp_path, monkeypatch, c
     """A slow read gets its line like the other stages (on a terminal, without --json)."""
     import time
 
-    import blockmesh.commands.common
     import blockmesh.io
 
     path = tmp_path / "m.npz"
@@ -145,7 +144,7 @@ def test_reading_a_mesh_file_shows_a_stage_line(capsys, tmp_path, monkeypatch, c
         time.sleep(0.1)
         return real_read(*args, **kwargs)
 
-    monkeypatch.setattr(blockmesh.commands.common, "read", slow_read)
+    monkeypatch.setattr(blockmesh.io, "read", slow_read)
     monkeypatch.setattr(progress_module, "SHOW_AFTER", 0.0)
     monkeypatch.setattr(progress_module, "_TICK", 0.01)
     monkeypatch.setattr(StageProgress, "wanted", staticmethod(lambda args: True))

@@ -6,6 +6,7 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -51,7 +52,7 @@ def _verdict(check, *args) -> str:
     return "ok"
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40))
 @given(
     st.sampled_from(["ring", "lake-island", "square-cut", "annulus"]),
     st.sampled_from(["none", "reverse", "interior", "interior reversed", "twice", "drop"]),

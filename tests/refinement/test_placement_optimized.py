@@ -2,14 +2,21 @@
 
 from __future__ import annotations
 
+import itertools
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
-from helpers import CATALOGUE
+from helpers import CATALOGUE, sweep
 
 import blockmesh
 from blockmesh.errors import ArgumentError, ArgumentTypeError
 from blockmesh.geometry import is_strictly_convex
 from blockmesh.refinement.improve import (
+    ANGLE_TIE,
+    _pick_fraction,
     inner_point_rule,
     optimize_nodes,
     refine_with_rule,
@@ -35,7 +42,7 @@ def _fixed_boundary_nodes(mesh):
     return np.array(fixed)
 
 
-@pytest.mark.parametrize("name", CATALOGUE)
+@pytest.mark.parametrize("name", sweep(CATALOGUE))
 def test_optimized_nodes_keep_the_mesh_and_improve_its_shapes(name):
     mesh = blockmesh.load_domain(name).mesh(2)
     better, report = optimize_nodes(mesh, iterations=60, report=True)
@@ -86,9 +93,63 @@ def test_inner_point_rule_is_nested_and_valid():
     assert fine.n_cells == 216 and fine.quality().not_strictly_convex == 0
 
 
+def test_inner_point_rule_does_not_depend_on_the_order_of_its_candidates():
+    # On the square every t gives the same worst angle to rounding (the worst corners are not
+    # next to the inner points): the choice must not fall to the first candidate or to noise.
+    square = blockmesh.load_domain("square")
+    fractions = (0.35, 0.4, 0.45, 0.5, 0.55, 0.6)
+    meshes = [
+        inner_point_rule(square, 2, fractions=order)
+        for order in (fractions, fractions[::-1], (0.45, 0.6, 0.35, 0.55, 0.5, 0.4))
+    ]
+    assert all(m.points.tobytes() == meshes[0].points.tobytes() for m in meshes[1:])
+    assert meshes[0].points.tobytes() == square.mesh(2).points.tobytes()  # the tie goes to 1/2
+
+
+def test_tied_worst_angles_are_broken_the_same_way_in_any_order():
+    fractions = np.array([0.35, 0.4, 0.55, 0.6, 0.45])
+    noise = np.array([0.0, 3e-14, -3e-14, 2e-14, -1e-14])  # equal angles but for rounding
+    chosen = set()
+    for order in itertools.permutations(range(fractions.size)):
+        index = list(order)
+        for sign in (1, -1):
+            angles = 30.0 + sign * noise[index]
+            chosen.add(float(fractions[index][_pick_fraction(fractions[index], angles)]))
+    assert chosen == {0.45}  # the one nearest 1/2 (0.55 is as near: the smaller wins)
+    # A real difference (more than the tie) still wins, and invalid candidates never do.
+    angles = np.array([30.0, 30.0 + 10 * ANGLE_TIE, 30.0, -np.inf, 30.0])
+    assert _pick_fraction(fractions, angles) == 1
+    assert _pick_fraction(fractions, np.full(5, -np.inf)) is None
+
+
+_PLACEMENT = """
+import hashlib, blockmesh
+from blockmesh.improve import optimize_nodes
+mesh = optimize_nodes(blockmesh.load_domain("square").mesh(4), iterations=10)
+print(hashlib.sha256(mesh.points.tobytes()).hexdigest())
+"""
+
+
+def test_optimized_placement_is_the_same_bits_for_any_blas_thread_count():
+    # 26,000 free coordinates at level 4: long enough for OpenBLAS to split a dot product over
+    # its threads (it does above about 10,000 entries), which made the runs differ.
+    digests = set()
+    for threads in ("1", "2"):
+        env = {**os.environ, "OPENBLAS_NUM_THREADS": threads, "OMP_NUM_THREADS": threads}
+        run = subprocess.run(
+            [sys.executable, "-c", _PLACEMENT], env=env, capture_output=True, text=True, timeout=600
+        )
+        assert run.returncode == 0, run.stderr
+        digests.add(run.stdout.strip())
+    assert len(digests) == 1, digests
+
+
 @pytest.mark.parametrize(
     ("call", "error", "match"),
     [
+        (lambda m: inner_point_rule(m, 1, fractions=()), ArgumentError, "non-empty sequence"),
+        (lambda m: inner_point_rule(m, 1, fractions=(0.4, 1.0)), ArgumentError, r"\[1\] = 1\.0"),
+        (lambda m: inner_point_rule(m, 1, fractions="half"), ArgumentTypeError, "numbers"),
         (lambda m: optimize_nodes("mesh"), ArgumentTypeError, "mesh must be a blockmesh Mesh"),
         (lambda m: optimize_nodes(m, iterations=-1), ArgumentError, "iterations must be"),
         (lambda m: optimize_nodes(m, size_weight=-1), ArgumentError, "size_weight must be"),

@@ -7,6 +7,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -76,7 +77,7 @@ def _polynomial_texts(draw, depth=0):
     return f"({left} {op} {draw(_polynomial_texts(depth + 1))})"
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=examples(150))
 @given(
     _polynomial_texts(),
     st.fractions(-3, 3, max_denominator=7),

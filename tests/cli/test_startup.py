@@ -38,9 +38,11 @@ FORMAT_MODULES = [
 
 MODULES_PROBE = """
 import sys
+import numpy  # what numpy loads by itself is not the command's doing (numpy 1.x loads secrets)
+before = set(sys.modules)
 from blockmesh.cli import main
 assert main({argv!r}) == 0
-print(",".join(m for m in {names!r} if m in sys.modules) or "none")
+print(",".join(m for m in {names!r} if m in sys.modules and m not in before) or "none")
 """
 
 

@@ -8,6 +8,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import sympy
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from sympy.integrals.intpoly import polytope_integrate
@@ -35,7 +36,7 @@ def test_the_paper_integrand_of_table_3_as_in_the_brief():
     )
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=examples(25))
 @given(
     st.lists(
         st.tuples(st.fractions(-3, 3, max_denominator=5), st.fractions(-3, 3, max_denominator=5)),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import CATALOGUE
+from helpers import CATALOGUE, examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -34,7 +34,7 @@ def _grid_triangles(nx: int, ny: int) -> tuple[np.ndarray, int]:
 
 
 @given(st.integers(1, 6), st.integers(1, 6))
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30))
 def test_neighbours_are_symmetric_and_count_the_interior_edges(nx, ny):
     cells, n = _grid_triangles(nx, ny)
     nb = cell_neighbours(cells, n)
@@ -50,7 +50,7 @@ def test_neighbours_are_symmetric_and_count_the_interior_edges(nx, ny):
 
 
 @given(st.integers(1, 6), st.integers(1, 6))
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30))
 def test_boundary_is_one_closed_loop_around_a_grid(nx, ny):
     cells, n = _grid_triangles(nx, ny)
     nb = cell_neighbours(cells, n)
