@@ -42,7 +42,6 @@ from blockmesh.curves import Arc
 from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.geometry.polygons import interior_angles, polygon_diameter, signed_area
 from blockmesh.sizing import as_size_spec
-from blockmesh.sizing.measure import cell_centroids, cell_diameters
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "sizing"))
 
@@ -147,7 +146,7 @@ def gmsh_mesh(domain, field, scale: float, quads: bool, polygon: np.ndarray | No
             gmsh.option.setNumber("Mesh.RecombineAll", 1)
             gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 1)  # Blossom
         gmsh.model.mesh.setSizeCallback(
-            lambda dim, tag, x, y, z, lc: float(scale * field(np.array([[x, y]]))[0])
+            lambda _dim, _tag, x, y, _z, _lc: float(scale * field(np.array([[x, y]]))[0])
         )
         started = time.process_time()
         gmsh.model.mesh.generate(2)
@@ -270,7 +269,9 @@ def accuracy(page: Page, quick: bool) -> None:
         run = acc.fem_cook("P1", 0, mesh)
         rows.append(("P1 on gmsh Delaunay, same field", f"h = {h:g}", run))
     for method, size, run in rows:
-        table.row(method, size, run.dof, f"{run.value:.4f}", f"{abs(run.value - COOK_REFERENCE):.4f}")
+        table.row(
+            method, size, run.dof, f"{run.value:.4f}", f"{abs(run.value - COOK_REFERENCE):.4f}"
+        )
     table.note(_winner(rows, lambda r: abs(r.value - COOK_REFERENCE)))
 
     lshape = blockmesh.load_domain("l-outline")

@@ -355,8 +355,11 @@ class _Chains:
 
 # ---------------------------------------------------------------------------- triangles
 def _delaunay(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Counter-clockwise Delaunay triangles, their neighbours (opposite each corner), and
-    which are flat (three points on a line of the convex hull; Qhull keeps them)."""
+    """Counter-clockwise Delaunay triangles, their neighbours, and which are flat.
+
+    The neighbours are listed opposite each corner; a flat triangle has three points on a line
+    of the convex hull (Qhull keeps them).
+    """
     from scipy.spatial import Delaunay
 
     tri = Delaunay(points)
@@ -420,7 +423,7 @@ def _kept(points: np.ndarray, domain) -> np.ndarray:
     return triangles[_inside(domain, points[triangles].mean(axis=1))]
 
 
-def _fill(points: np.ndarray, n_fixed: int, domain, length, rounds: int = 60) -> np.ndarray:
+def _fill(points: np.ndarray, domain, length, rounds: int = 60) -> np.ndarray:
     """Add centroids of triangles larger than an equilateral triangle of side ``length``."""
     for _ in range(rounds):
         triangles = _kept(points, domain)
@@ -493,7 +496,7 @@ def _thin(points: np.ndarray, n_fixed: int, domain, length) -> np.ndarray:
         u, v = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
         area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
         wanted = float(np.sum(area / ((math.sqrt(3) / 4) * length(xy.mean(axis=1)) ** 2)))
-        excess = int(round((len(triangles) - wanted) / 2))
+        excess = round((len(triangles) - wanted) / 2)
         if excess <= 0:
             return points
         e = _edges(triangles)
@@ -560,10 +563,10 @@ def _relax(
     tree = shapely.STRtree(shapely.linestrings(segments))
     outline_points = cKDTree(points[:n_fixed])
     points = points.copy()
-    free = np.arange(len(points)) >= n_fixed
+    moving = np.arange(len(points)) >= n_fixed
     if movable is not None:
-        free &= movable
-    free = np.flatnonzero(free)
+        moving &= movable
+    free = np.flatnonzero(moving)
     used = 1.0
 
     def clearance(xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -898,7 +901,7 @@ def sized_blocks(
     seeds = field.seeds()
     seeds = frame.to_local(seeds) if len(seeds) else np.zeros((0, 2))
     seeds = seeds[_inside(domain, seeds)] if len(seeds) else seeds
-    background = _fill(np.vstack([chains.local(), seeds]), chains.n, domain, asked_length)
+    background = _fill(np.vstack([chains.local(), seeds]), domain, asked_length)
     triangles = _kept(background, domain)
     caps = np.full(len(background), np.inf)
     caps[: chains.n] = _feature_sizes(chains, asked_length) * frame.scale / KAPPA
@@ -907,7 +910,7 @@ def sized_blocks(
     # 2-4. The outline sampled, filled and relaxed for the graded field.
     chains = _Chains(outline, frame, lambda xy: KAPPA * checked_sizes(graded, xy))
     domain = _domain_test(chains, chains.local())
-    points = _fill(chains.local(), chains.n, domain, length)
+    points = _fill(chains.local(), domain, length)
     points = _thin(points, chains.n, domain, length)
     points, scale = _relax(points, chains.n, domain, length, chains.segments())
     free = points[chains.n :]

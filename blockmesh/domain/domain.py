@@ -175,9 +175,7 @@ class Domain:
         ):
             raise DomainError("every block needs one region (an index into region_names)")
         object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
-        object.__setattr__(
-            self, "grading", check_grading(self.grading, vertices, blocks, self.curves)
-        )
+        object.__setattr__(self, "grading", check_grading(self.grading, blocks, self.curves))
         self._store(vertices, blocks, boundary, patch, region, neighbour)
 
     def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
@@ -355,7 +353,7 @@ class Domain:
         patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
         curves = _checked_curves(points, block_ids, edges, curve_levels)
-        graded = check_grading(grading, points, block_ids, curves)
+        graded = check_grading(grading, block_ids, curves)
         source = None
         if boundary_source is not None:
             source = np.array(
@@ -765,7 +763,7 @@ class Domain:
     def with_size(
         self, size: Any, *, gradation: float | None = None, max_memory: int | None = None
     ) -> Domain:
-        """This domain re-cut into blocks of the sizes asked: every block is a cell of that size.
+        """The domain re-cut into blocks of the sizes asked: every block is a cell of that size.
 
         The blocks follow the size field (every block's diameter at most 1.5 times the size asked
         at its centroid, about 1.5 times the fewest cells that allows), conform, keep the
@@ -795,7 +793,7 @@ class Domain:
         return resized(self, size, gradation=gradation, max_memory=max_memory)
 
     def uniform(self, level: int, *, max_memory: int | None = None) -> Domain:
-        """This domain cut into cells of one size, about as many as ``mesh(level)`` makes.
+        """The domain cut into cells of one size, about as many as ``mesh(level)`` makes.
 
         The corner-true alternative to refining the blocks: the paper's rule lets the cells at
         block corners grow 1.5 times per level relative to the others (the corner child keeps a
@@ -823,8 +821,8 @@ class Domain:
 
         See :class:`blockmesh.sizing.SizeReport`.
         """
-        asked = self.size_field if field is None else as_size_spec(field).field(
-            DomainGeometry(self)
+        asked = (
+            self.size_field if field is None else as_size_spec(field).field(DomainGeometry(self))
         )
         mesh = self.block_mesh()
         return size_report(mesh.points, mesh.cells, asked, curves=mesh.curves)

@@ -28,6 +28,7 @@ True
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -106,10 +107,7 @@ class DomainGeometry:
 
         polygons = []
         for block in self.domain.blocks[self.domain.regions[name]].tolist():
-            ring = [
-                self._edge_points(a, b)[:-1]
-                for a, b in zip(block, block[1:] + block[:1], strict=True)
-            ]
+            ring = [self._edge_points(a, b)[:-1] for a, b in itertools.pairwise([*block, block[0]])]
             polygons.append(shapely.Polygon(np.vstack(ring)))
         return shapely.union_all(polygons)
 
@@ -145,7 +143,7 @@ def _curve_from(domain: Domain, a: int, b: int) -> Curve | None:
         middle = curve.point(0.5)
         return Arc(through=(float(middle[0]), float(middle[1]))).with_ends(p, q)
     if isinstance(curve, Polyline):
-        points = [tuple(map(float, v)) for v in curve.points][::-1]
+        points = tuple((float(x), float(y)) for x, y in curve.points)[::-1]
         return Polyline(points=points).with_ends(p, q)
     return _Reversed(curve)  # type: ignore[return-value]
 
@@ -206,7 +204,7 @@ def _split_polylines(domain: Domain, edges: list[_Edge]) -> tuple[list[_Edge], n
             extra.append(np.asarray(point, dtype=np.float64))
             ids.append(n + len(extra) - 1)
         ids.append(e.b)
-        for p, q in zip(ids[:-1], ids[1:], strict=True):
+        for p, q in itertools.pairwise(ids):
             out.append(_Edge(p, q, e.left, e.right, e.patch, None, e.source))
     return out, np.array(extra).reshape(-1, 2)
 
@@ -287,7 +285,8 @@ def _outline(domain: Domain) -> tuple[Outline, np.ndarray, list[tuple[int, int]]
             cut.append(run)
     corner_ids = sorted({edges[run[0]].a for run in cut} | {edges[run[-1]].b for run in cut})
     index = {v: i for i, v in enumerate(corner_ids)}
-    chains, curves, left, right, patch, sources = [], [], [], [], [], []
+    chains, left, right, patch, sources = [], [], [], [], []
+    curves: list[ChainCurve | None] = []
     for run in cut:
         first, last = edges[run[0]], edges[run[-1]]
         chains.append((index[first.a], index[last.b]))

@@ -66,7 +66,7 @@ def geometric_fractions(ratio: float, pieces: int) -> np.ndarray:
 
 
 def check_grading(
-    grading: object, vertices: np.ndarray, blocks: np.ndarray, curved: Any = ()
+    grading: object, blocks: np.ndarray, curved: Any = ()
 ) -> dict[tuple[int, int], float]:
     """The grading as ``{(a, b): ratio}``, checked: block edges, finite ratios, one per edge.
 
@@ -161,9 +161,9 @@ def graded_mesh(base: Mesh, mesh: Mesh, grading: Mapping[tuple[int, int], float]
     if inner.size:
         edges = unique_edges(cells_near, len(points))
         n = len(points)
-        a, b = edges[:, 0], edges[:, 1]
+        tail, head = edges[:, 0], edges[:, 1]
         graph = coo_matrix(
-            (np.ones(2 * len(a)), (np.concatenate([a, b]), np.concatenate([b, a]))), shape=(n, n)
+            (np.ones(2 * len(tail)), (np.r_[tail, head], np.r_[head, tail])), shape=(n, n)
         ).tocsr()
         degree = np.asarray(graph.sum(axis=1)).ravel()
         index = np.full(n, -1)
@@ -180,7 +180,7 @@ def graded_mesh(base: Mesh, mesh: Mesh, grading: Mapping[tuple[int, int], float]
             [spsolve(laplacian, rhs[:, 0]), spsolve(laplacian, rhs[:, 1])]
         )
     points += move
-    _check_folds(base, mesh, points, grading, steps)
+    _check_folds(base, mesh, points, grading)
     return mesh._copy(points=points)
 
 
@@ -192,9 +192,7 @@ def _find_edge(cells: np.ndarray, a: int, b: int) -> tuple[int, int]:
     return int(block), int(edge)
 
 
-def _check_folds(
-    base: Mesh, mesh: Mesh, points: np.ndarray, grading: Mapping, steps: int
-) -> None:
+def _check_folds(base: Mesh, mesh: Mesh, points: np.ndarray, grading: Mapping) -> None:
     sines = corner_sines(points[mesh.cells])
     bad = np.flatnonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1))
     if not bad.size:
@@ -203,9 +201,7 @@ def _check_folds(
     block = int(mesh.block_id[cell])
     corners = base.cells[block].tolist()
     mine = [
-        f"({a}, {b}) ratio {r:g}"
-        for (a, b), r in grading.items()
-        if a in corners and b in corners
+        f"({a}, {b}) ratio {r:g}" for (a, b), r in grading.items() if a in corners and b in corners
     ]
     edges = ", ".join(mine) if mine else "its neighbours' graded edges"
     where = fmt_point(points[mesh.cells[cell]].mean(axis=0))

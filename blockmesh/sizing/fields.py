@@ -498,7 +498,7 @@ class Minimum(SizeField):
         """The smallest of the parts' bounds."""
         return min(f.smallest for f in self.fields)
 
-    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:
+    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:  # noqa: ARG002
         return  # the parts are checked one by one
 
 
@@ -533,7 +533,7 @@ class Scaled(SizeField):
         """The field's bound times the factor."""
         return self.field.smallest * self.factor
 
-    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:
+    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:  # noqa: ARG002
         return  # the parts are checked one by one
 
 

@@ -67,10 +67,10 @@ def checked_gradation(rate: object) -> float:
 class Graded(SizeField):
     """A field limited to grow by ``rate`` per cell, from its graded values at samples.
 
-    Build it with :func:`grade`.
+    ``asked`` is the field graded. Build it with :func:`grade`.
     """
 
-    field: SizeField
+    asked: SizeField
     rate: float
     samples: np.ndarray
     sample_sizes: np.ndarray
@@ -84,7 +84,7 @@ class Graded(SizeField):
 
     def values(self, xy: np.ndarray) -> np.ndarray:
         """The smallest of the field and the cones of the nearest samples."""
-        raw = self.field.values(xy)
+        raw = self.asked.values(xy)
         if not len(xy):
             return raw
         k = min(_NEAREST, len(self.samples))
@@ -96,18 +96,18 @@ class Graded(SizeField):
 
     def parts(self) -> tuple[SizeField, ...]:
         """The graded field's own parts are those of the field it grades."""
-        return (*self.field.parts(), self)
+        return (*self.asked.parts(), self)
 
     def seeds(self) -> np.ndarray:
         """The field's seeds."""
-        return self.field.seeds()
+        return self.asked.seeds()
 
     @property
     def smallest(self) -> float:
         """The field's bound."""
-        return self.field.smallest
+        return self.asked.smallest
 
-    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:
+    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:  # noqa: ARG002
         return  # the graded values are never above the checked field's
 
 

@@ -162,11 +162,10 @@ class SizeSpec:
                 Expression(self.expression, label=f"{where} expression {self.expression!r}")
             )
         parts.extend(self.fields)
-        if self.regions or any(n.patches for n in self.near):
-            if geometry is None:
-                raise ArgumentError(
-                    f"{where} names patches or regions; it needs a domain to be resolved"
-                )
+        if (self.regions or any(n.patches for n in self.near)) and geometry is None:
+            raise ArgumentError(
+                f"{where} names patches or regions; it needs a domain to be resolved"
+            )
         for name, size in self.regions.items():
             _known(name, geometry.region_names, "region", where)  # type: ignore[union-attr]
             polygon = geometry.region_polygon(name)  # type: ignore[union-attr]
@@ -396,7 +395,7 @@ def as_size_spec(value: object, *, source: str = "size") -> SizeSpec:
         return SizeSpec(fields=(value,), source=source)
     if isinstance(value, Mapping):
         return _table(value, source)
-    if isinstance(value, str) or isinstance(value, numbers.Real):
+    if isinstance(value, str | numbers.Real):
         return SizeSpec(default=_number_or_expression(value, source), source=source)
     if callable(value):
         return SizeSpec(fields=(Callback(value),), source=source)

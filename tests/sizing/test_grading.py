@@ -95,7 +95,9 @@ def test_bad_gradings_are_located():
     # A strong grading on one side of the bottom blocks only folds their cells.
     folding = {(0, 5): 1e-4}
     strong = blockmesh.Domain.from_blocks(d.vertices, d.blocks, grading=folding)
-    with pytest.raises(blockmesh.DomainError, match=r"the grading folds cell \d+ of block 0 at level"):
+    with pytest.raises(
+        blockmesh.DomainError, match=r"the grading folds cell \d+ of block 0 at level"
+    ):
         strong.mesh(4)
 
 

@@ -30,7 +30,11 @@ RNG = np.random.default_rng(24)
 
 def test_minimum_is_the_pointwise_minimum():
     xy = RNG.uniform(-2, 2, (200, 2))
-    parts = [Constant(0.3), Expression("0.05 + abs(x)"), Near(points=[(0, 0)], size=0.01, growth=1.5)]
+    parts = [
+        Constant(0.3),
+        Expression("0.05 + abs(x)"),
+        Near(points=[(0, 0)], size=0.01, growth=1.5),
+    ]
     got = Minimum(tuple(parts))(xy)
     assert np.array_equal(got, np.minimum.reduce([p(xy) for p in parts]))
 
@@ -63,8 +67,14 @@ def test_in_region_asks_nothing_outside():
         (-1.5, "must be a finite number > 0"),
         (float("nan"), "must be a finite number > 0"),
         (float("inf"), "must be a finite number > 0"),
-        ({"default": 0.1, "near": [{"point": [0, 0], "size": 0.01, "growth": 1.0}]}, "growth must be > 1"),
-        ({"default": 0.1, "near": [{"point": [0, 0], "size": 0.1, "distance": [0.5, 0.1]}]}, "0 <= d_min < d_max"),
+        (
+            {"default": 0.1, "near": [{"point": [0, 0], "size": 0.01, "growth": 1.0}]},
+            "growth must be > 1",
+        ),
+        (
+            {"default": 0.1, "near": [{"point": [0, 0], "size": 0.1, "distance": [0.5, 0.1]}]},
+            "0 <= d_min < d_max",
+        ),
         ({"default": 0.1, "nearby": []}, "unknown key 'nearby'"),
         ({"default": 0.1, "near": [{"size": 0.1, "growth": 1.2}]}, "what is it near"),
         ({"default": 0.1, "gradation": 1.0}, "gradation must be > 1"),
@@ -95,7 +105,9 @@ def test_bad_callable_is_located():
 def test_unknown_patch_and_region_name_the_known_ones():
     plate = blockmesh.load_domain("plate-hole")
     with pytest.raises(UnknownNameError, match=r"patch 'hole 0'.*\(patches: 'hole', 'right'"):
-        plate.with_size({"default": 0.2, "near": [{"patch": "hole 0", "size": 0.02, "growth": 1.2}]})
+        plate.with_size(
+            {"default": 0.2, "near": [{"patch": "hole 0", "size": 0.02, "growth": 1.2}]}
+        )
     with pytest.raises(UnknownNameError, match=r"region 'core'.*regions: 'domain'"):
         plate.with_size({"default": 0.2, "regions": {"core": 0.05}})
 
@@ -131,7 +143,8 @@ def test_ideal_count_integrates_one_over_a_h_squared():
     square = shapely.box(0, 0, 2, 1)
     exact = 2 / (PENTAGON_AREA * 0.05**2)
     assert ideal_count(Constant(0.05), square).cells == pytest.approx(exact, rel=1e-9)
-    # A linear field: the integral of 1/(a (0.1 + 0.1 x)^2) over [0, 2] x [0, 1] is 1/(a 0.1^2) * 2/3.
+    # A linear field: the integral of 1/(a (0.1 + 0.1 x)^2) over [0, 2] x [0, 1]
+    # is 1/(a 0.1^2) * 2/3.
     linear = ideal_count(Expression("0.1 + 0.1*x"), square).cells
     assert linear == pytest.approx(2 / 3 / (PENTAGON_AREA * 0.01), rel=0.03)
     assert not ideal_count(Constant(1e-4), square, limit=1e5).complete

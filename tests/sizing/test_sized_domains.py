@@ -18,7 +18,6 @@ from blockmesh.decompose.sized import NEIGHBOUR_RATIO, SIZE_TOLERANCE
 from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.geometry.polygons import signed_area
 from blockmesh.geometry.topology import cell_neighbours
-from blockmesh.sizing import as_size_spec
 
 
 def _patch_lengths(domain) -> dict[str, float]:
@@ -28,8 +27,11 @@ def _patch_lengths(domain) -> dict[str, float]:
         total = 0.0
         for a, b in edges.tolist():
             curve = domain.curves.get((a, b)) or domain.curves.get((b, a))
-            total += curve.length if curve is not None else float(np.hypot(*np.subtract(
-                domain.vertices[b], domain.vertices[a])))
+            total += (
+                curve.length
+                if curve is not None
+                else float(np.hypot(*np.subtract(domain.vertices[b], domain.vertices[a])))
+            )
         out[name] = total
     return out
 
@@ -83,8 +85,14 @@ def test_uniform_sizes_sample(name):
 @pytest.mark.parametrize(
     "name, spec",
     [
-        ("quarter-plate-hole", {"default": 0.2, "near": [{"patch": "hole", "size": 0.02, "growth": 1.2}]}),
-        ("l-outline", {"default": 0.1, "near": [{"point": [1, 1], "size": 0.01, "distance": [0.02, 0.5]}]}),
+        (
+            "quarter-plate-hole",
+            {"default": 0.2, "near": [{"patch": "hole", "size": 0.02, "growth": 1.2}]},
+        ),
+        (
+            "l-outline",
+            {"default": 0.1, "near": [{"point": [1, 1], "size": 0.01, "distance": [0.02, 0.5]}]},
+        ),
         ("l-shape", {"default": 0.2, "regions": {"corner": 0.04}}),
         ("square", "0.02 + 0.1*sqrt(x^2 + y^2)"),
     ],
@@ -128,7 +136,7 @@ def test_polygon_source_and_toml(tmp_path):
     chains = polygon.polygon_edges
     assert sorted(chains) == [(0, 0), (0, 1), (0, 2), (0, 3)]
     text = (
-        'polygon = [[0, 0], [2, 0], [2, 1], [0, 1]]\n[patches]\ninlet = [3]\n'
+        "polygon = [[0, 0], [2, 0], [2, 1], [0, 1]]\n[patches]\ninlet = [3]\n"
         '[size]\ndefault = 0.2\n[[size.near]]\npatch = "inlet"\nsize = 0.05\ngrowth = 1.3\n'
     )
     path = tmp_path / "channel.toml"
@@ -162,13 +170,25 @@ def test_every_catalogue_domain_at_sizes_spanning_ten_times(name, divisions):
 
 
 THRESHOLDS = [
-    ("plate-hole", {"default": 0.2, "near": [{"patch": "hole", "size": 0.01, "distance": [0.05, 1.0]}]}),
+    (
+        "plate-hole",
+        {"default": 0.2, "near": [{"patch": "hole", "size": 0.01, "distance": [0.05, 1.0]}]},
+    ),
     ("plate-hole", {"default": 0.2, "near": [{"patch": "hole", "size": 0.02, "growth": 1.2}]}),
     ("annulus", {"default": 0.1, "near": [{"patch": "inner", "size": 0.01, "growth": 1.2}]}),
-    ("cylinder-channel", {"default": 0.04, "near": [{"patch": "cylinder", "size": 0.004, "growth": 1.15}]}),
+    (
+        "cylinder-channel",
+        {"default": 0.04, "near": [{"patch": "cylinder", "size": 0.004, "growth": 1.15}]},
+    ),
     ("l-shape", {"default": 0.1, "near": [{"point": [1, 1], "size": 0.005, "growth": 1.2}]}),
-    ("backward-step", {"default": 0.1, "near": [{"point": [1, 0.5], "size": 0.005, "distance": [0.01, 0.5]}]}),
-    ("channel-obstacle", {"default": 0.1, "near": [{"patch": "obstacle", "size": 0.01, "growth": 1.2}]}),
+    (
+        "backward-step",
+        {"default": 0.1, "near": [{"point": [1, 0.5], "size": 0.005, "distance": [0.01, 0.5]}]},
+    ),
+    (
+        "channel-obstacle",
+        {"default": 0.1, "near": [{"patch": "obstacle", "size": 0.01, "growth": 1.2}]},
+    ),
 ]
 
 
