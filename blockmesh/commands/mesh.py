@@ -61,8 +61,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         type=int,
         default=None,
         metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
-        "0 with --size or a domain file with a [size] table)",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}); "
+        "with --size, or a domain file with a [size] table, 0 unless given",
     )
     parser.add_argument(
         "--size",

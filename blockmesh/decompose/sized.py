@@ -52,7 +52,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from blockmesh.curves.types import Arc, Curve
 from blockmesh.decompose.optimise import WorstAngle
@@ -957,10 +956,10 @@ def sized_blocks(
         new = points[chains.n + kept :]
         movable = np.zeros(len(points), dtype=bool)
         if len(new):
-            near = cKDTree(new).query(points, distance_upper_bound=3.0 * float(length(new).max()))[
-                0
-            ]
-            movable = np.isfinite(near)
+            from scipy.spatial import cKDTree  # scipy is imported when blocks are made
+
+            reach = 3.0 * float(length(new).max())
+            movable = np.isfinite(cKDTree(new).query(points, distance_upper_bound=reach)[0])
         points, _ = _relax(
             points, chains.n, domain, length, chains.segments(), 20, movable=movable, scale=scale
         )
