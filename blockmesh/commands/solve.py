@@ -24,6 +24,7 @@ from blockmesh.commands.common import (
 )
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.sizing.spec import as_size_spec
 from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from blockmesh.vem.fields import scalar_field, split_pair
 from blockmesh.vem.output import SOLUTION_FORMATS, write_solution
@@ -53,9 +54,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--level",
         "-l",
         type=int,
-        default=DEFAULT_LEVEL,
+        default=None,
         metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}); "
+        "with --size, or a domain file with a [size] table, 0 unless given",
+    )
+    parser.add_argument(
+        "--size",
+        "-s",
+        metavar="H",
+        help="solve on cells of diameter H (a number, or an expression in x and y) instead of "
+        "refined blocks; with --level L too, those cells are refined L times (see blockmesh "
+        "mesh --help)",
     )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
@@ -142,7 +152,7 @@ def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str
 
 
 def _check(args: argparse.Namespace) -> None:
-    if args.level < 0:
+    if args.level is not None and args.level < 0:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
@@ -211,7 +221,16 @@ def run(args: argparse.Namespace) -> int:
     neumann = _patch_values(args.neumann, "--neumann", seen)
     domain = resolve_domain(args)
     started = time.perf_counter()
-    mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
+    if args.size is not None:
+        try:
+            size: float | str = float(args.size)
+        except ValueError:
+            size = args.size
+        domain = domain.with_size(as_size_spec(size, source="--size"))
+    level = args.level
+    if level is None:
+        level = 0 if domain.size_field is not None else DEFAULT_LEVEL
+    mesh = refine_with_rule(domain, level, rule=args.quality_rule, smooth=args.smooth)
     try:
         solution = _solve(args, mesh, dirichlet, neumann)
     except SolverError as error:  # the library names its keyword; here the flag is meant

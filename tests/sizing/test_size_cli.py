@@ -82,3 +82,14 @@ def test_bad_sizes_are_one_located_line(capsys, tmp_path):
     assert run_cli(capsys, "mesh", "square", "--level", "1", "-o", str(mesh))[0] == 0
     code, _, err = run_cli(capsys, "mesh", str(mesh), "--size", "0.1")
     assert code != 0 and "is a mesh" in err
+
+
+def test_solve_on_sized_cells(capsys):
+    patches = ["--dirichlet", "bottom=0", "--dirichlet", "right=0", "--dirichlet", "top=0",
+               "--dirichlet", "left=0"]  # fmt: skip
+    code, out, err = run_cli(
+        capsys, "solve", "square", "--size", "0.1", "--source", "2*pi^2*sin(pi*x)*sin(pi*y)",
+        *patches, "--exact", "sin(pi*x)*sin(pi*y)",
+    )  # fmt: skip
+    assert code == 0, err
+    assert "on level 0" in out and "errors against" in out
