@@ -22,6 +22,7 @@ blockmesh.errors.ArgumentError: unknown split 'tri9'; choose one of: tri5, tri3
 from __future__ import annotations
 
 import functools
+import inspect
 import numbers
 import warnings
 from collections.abc import Callable, Iterable
@@ -122,19 +123,21 @@ def renamed_keywords(**renamed: str) -> Callable[[Callable[..., T]], Callable[..
     ...     warnings.simplefilter("ignore")
     ...     integrate(function="x*y")
     'x*y'
-    >>> integrate(f=1, function=2)
+    >>> integrate(1, function=2)
     Traceback (most recent call last):
     ...
     blockmesh.errors.ArgumentError: integrate() got both f and its earlier name function; give f
     """
 
     def decorate(function: Callable[..., T]) -> Callable[..., T]:
+        positions = {name: k for k, name in enumerate(inspect.signature(function).parameters)}
+
         @functools.wraps(function)
         def wrapper(*args: Any, **kwargs: Any) -> T:
             for old, new in renamed.items():
                 if old not in kwargs:
                     continue
-                if new in kwargs:
+                if new in kwargs or positions.get(new, len(args)) < len(args):
                     raise ArgumentError(
                         f"{function.__name__}() got both {new} and its earlier name {old}; "
                         f"give {new}"

@@ -20,6 +20,9 @@ Temporary names are ``.NAME.HOST-PID-RANDOM.tmp`` (and ``.old`` for a folder mov
 write to the same target removes those whose process no longer runs on this machine: what a
 killed run left behind (see :func:`clean_stale`).
 
+A Ctrl-C (or SIGTERM, SIGHUP) that arrived during the write stops it before the commit even if
+a finaliser swallowed its exception (:func:`blockmesh._system.interrupts.raise_pending`).
+
 Operating-system failures (no space left, read-only file system, permission denied, a path
 component that is not a folder) become one :class:`~blockmesh.errors.ExportError` naming the
 target and the cause.
@@ -47,6 +50,7 @@ import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+from blockmesh._system.interrupts import raise_pending
 from blockmesh._system.libc import libc_function
 from blockmesh._system.procfs import umask
 from blockmesh.errors import ArgumentTypeError, ExportError
@@ -375,6 +379,7 @@ def atomic_file(target: Path) -> Iterator[Path]:
         try:
             yield tmp
             os.chmod(tmp, _mode_for(target, 0o666))
+            raise_pending()  # Ctrl-C swallowed by a finaliser during the write: no commit
             os.replace(tmp, target)
         finally:
             _unlink(tmp)
@@ -398,6 +403,7 @@ def atomic_files(*targets: Path) -> Iterator[tuple[Path, ...]]:
             yield tuple(temps)
             for tmp, t in zip(temps, targets, strict=True):
                 os.chmod(tmp, _mode_for(t, 0o666))
+            raise_pending()
             _replace_all(temps, list(targets))
         finally:
             for tmp in temps:
@@ -504,6 +510,7 @@ def atomic_dir(target: Path) -> Iterator[Path]:
         try:
             yield tmp
             os.chmod(tmp, _mode_for(target, 0o777))
+            raise_pending()
             _swap_in(tmp, target)
         finally:
             _remove(tmp)
@@ -581,6 +588,7 @@ def atomic_with_data(
             os.chmod(light_tmp, mode)
             os.chmod(data_tmp, mode)
             with _folder_lock(light.parent):
+                raise_pending()
                 os.replace(data_tmp, data)
                 try:
                     os.replace(light_tmp, light)

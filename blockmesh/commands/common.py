@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 import time
 from pathlib import Path
@@ -17,7 +18,9 @@ from blockmesh.commands._progress import StageProgress
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
+from blockmesh.geometry.polygons import DIRECTIONS
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "ProgressBar",
@@ -26,12 +29,15 @@ __all__ = [
     "fill_template",
     "inline_polygon",
     "is_mesh_file",
+    "json_error",
+    "json_objects_printed",
+    "levels_to_add",
     "load_target",
+    "parse_patch_options",
     "parse_size",
     "plural",
     "print_json",
     "printable",
-    "resolve_domain",
     "resolve_target",
     "safe_component",
 ]
@@ -44,7 +50,7 @@ def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False)
         metavar="DOMAIN",
         nargs="*" if many else "?",
         help="catalogue name (see 'blockmesh catalogue'), a domain file (.toml, .wkt, .geojson) "
-        "or a mesh to convert (.msh, .vtu, ...)"
+        "or a mesh file blockmesh wrote (.npz, .vtu, .xdmf, .msh, .mat, .vtk)"
         + ("; several names, files or globs" if many else ""),
     )
     parser.add_argument(
@@ -59,24 +65,20 @@ def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False)
         default=[],
         help="a hole in the --polygon (repeat for more holes)",
     )
+    parser.add_argument(
+        "--patch",
+        metavar="NAME=EDGES",
+        action="append",
+        default=[],
+        help="name edges of a --polygon or of a .wkt/.geojson outline as patch NAME (repeat for "
+        "more patches): EDGES is a comma list of edge numbers (edge i runs from corner i to "
+        "i+1, from 0), ranges such as 2-4, 'hole K' (every edge of hole K), 'hole K:E', or "
+        "left, right, top, bottom (the outer edges facing that way); other edges stay in "
+        "'boundary'",
+    )
 
 
-def resolve_domain(args: argparse.Namespace) -> Domain:
-    """The one domain named on the command line (``DOMAIN`` or ``--polygon``).
-
-    A mesh file (``.vtu``, ``.xdmf``, ``.npz``, …) is refused with a message saying so; commands
-    that also work on meshes use :func:`resolve_target`.
-    """
-    target = resolve_target(args)
-    if isinstance(target, Mesh):
-        raise BlockMeshError(
-            f"{_one_name(args)} is a mesh file, not a domain; this command needs a domain "
-            "(a catalogue name, a .toml file or --polygon)"
-        )
-    return target
-
-
-def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
+def resolve_target(args: argparse.Namespace) -> Domain | Mesh | PolygonMesh:
     """The domain named on the command line, or the mesh in a mesh file blockmesh reads.
 
     A refined mesh is a valid thing to check, integrate over or refine further, so ``DOMAIN``
@@ -85,18 +87,19 @@ def resolve_target(args: argparse.Namespace) -> Domain | Mesh:
     domain = _one_name(args)
     if args.polygon is not None and domain:
         raise BlockMeshError("give either DOMAIN or --polygon, not both")
+    patches = parse_patch_options(args.patch)
     if args.polygon is not None:
-        return inline_polygon(args.polygon, args.hole)
+        return inline_polygon(args.polygon, args.hole, patches)
     if args.hole:
         raise BlockMeshError(
             '--hole adds a hole to --polygon "x1,y1 x2,y2 ..."; give --polygon too'
         )
     if not domain:
         raise BlockMeshError(
-            'no domain: give a catalogue name or a .toml file, or --polygon "x1,y1 x2,y2 ..." '
-            "(see 'blockmesh catalogue')"
+            "no domain: give a catalogue name, a .toml, .wkt or .geojson file or a mesh file, "
+            "or --polygon \"x1,y1 x2,y2 ...\" (see 'blockmesh catalogue')"
         )
-    return load_target(domain, progress=StageProgress.wanted(args))
+    return load_target(domain, progress=StageProgress.wanted(args), patches=patches)
 
 
 def _one_name(args: argparse.Namespace) -> str | None:
@@ -120,14 +123,23 @@ def is_mesh_file(name: str) -> bool:
     return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())
 
 
-def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
+def load_target(
+    name: str, *, progress: bool = False, patches: dict[str, list[int | str]] | None = None
+) -> Domain | Mesh | PolygonMesh:
     """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`.
 
     With ``progress``, a read that takes over a second shows a line on stderr
     (``mesh.msh: reading ...  3.0 s``, then ``done in``), as the command's other stages do.
+    ``patches`` (from ``--patch``) name edges of a ``.wkt`` or ``.geojson`` outline.
     """
+    if patches and Path(name).suffix.lower() not in (".wkt", ".geojson", ".json"):
+        raise BlockMeshError(
+            f"--patch names edges of a polygon outline (--polygon, a .wkt or .geojson file); "
+            f"{name} names its own patches (a .toml file in its [patches] table, a mesh file on "
+            "its boundary)"
+        )
     if not is_mesh_file(name):
-        return load_domain(name)
+        return load_domain(name, patches=patches)
 
     try:
         with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):
@@ -139,8 +151,32 @@ def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
         ) from None
 
 
-def inline_polygon(text: str, holes: list[str] | None = None) -> Domain:
-    """The domain of ``--polygon TEXT`` with ``--hole`` texts; parse errors name the option."""
+def levels_to_add(level: int | None, target: Domain | Mesh | PolygonMesh, default: int) -> int:
+    """The levels ``--level`` adds to ``target``: as given, else ``default`` (a domain), 0 (a mesh).
+
+    A mesh read from a file keeps its own level unless ``--level`` asks for more.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> domain = blockmesh.load_domain("sp")
+    >>> [levels_to_add(None, domain, 2), levels_to_add(None, domain.mesh(3), 2)]
+    [2, 0]
+    >>> levels_to_add(1, domain.mesh(3), 2)
+    1
+    """
+    if level is not None:
+        return level
+    return 0 if isinstance(target, Mesh | PolygonMesh) else default
+
+
+def inline_polygon(
+    text: str, holes: list[str] | None = None, patches: dict[str, list[int | str]] | None = None
+) -> Domain:
+    """The domain of ``--polygon TEXT`` with ``--hole`` texts and ``--patch`` names.
+
+    Parse errors name the option.
+    """
     try:
         corners = parse_polygon_string(text)
     except DomainFormatError as error:
@@ -151,7 +187,49 @@ def inline_polygon(text: str, holes: list[str] | None = None) -> Domain:
             rings.append(parse_polygon_string(hole, what=f"hole {k}"))
         except DomainFormatError as error:
             raise DomainFormatError(f"--hole: {error}") from None
-    return Domain.from_polygon(corners, rings, name="polygon")
+    return Domain.from_polygon(corners, rings, name="polygon", patches=patches or None)
+
+
+_RANGE = re.compile(r"^(\d+)\s*-\s*(\d+)$")
+
+
+def parse_patch_options(items: list[str]) -> dict[str, list[int | str]]:
+    """The ``--patch NAME=EDGES`` options as the ``patches`` of :meth:`Domain.from_polygon`.
+
+    EDGES is a comma list of edge numbers, ranges ``A-B``, ``hole K``, ``hole K:E`` and the
+    words ``left``, ``right``, ``top``, ``bottom``; a NAME given twice gets both lists.
+
+    Examples
+    --------
+    >>> parse_patch_options(["wall=0, 2-4", "in=left", "wall=hole 0"])
+    {'wall': [0, 2, 3, 4, 'hole 0'], 'in': ['left']}
+    >>> parse_patch_options(["in=up"])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.BlockMeshError: --patch 'in=up': 'up' is not an edge; ...
+    """
+    patches: dict[str, list[int | str]] = {}
+    for item in items:
+        name, sign, spec = (part.strip() for part in item.partition("="))
+        if not sign or not name or not spec:
+            raise BlockMeshError(
+                f"--patch {item!r}: write NAME=EDGES, e.g. --patch inlet=0 or --patch wall=left"
+            )
+        edges = patches.setdefault(name, [])
+        for token in (t.strip() for t in spec.split(",")):
+            found = _RANGE.match(token)
+            if token.isdigit():
+                edges.append(int(token))
+            elif found and int(found[1]) <= int(found[2]):
+                edges += range(int(found[1]), int(found[2]) + 1)
+            elif token.lower() in DIRECTIONS or re.fullmatch(r"hole \d+(:\d+)?", token):
+                edges.append(token.lower())
+            else:
+                raise BlockMeshError(
+                    f"--patch {item!r}: {token!r} is not an edge; write edge numbers (0, 3), "
+                    "ranges (2-4), 'hole K', 'hole K:E' or left, right, top, bottom"
+                )
+    return patches
 
 
 #: The fields an output path may contain, e.g. ``out/{name}-{level}.vtu``.
@@ -257,9 +335,33 @@ def _plain(value: Any) -> Any:
     raise TypeError(f"cannot write {type(value).__name__} as JSON")
 
 
+#: How many JSON objects :func:`print_json` has printed in this process.
+_JSON_PRINTED = [0]
+
+
 def print_json(payload: dict[str, Any]) -> None:
     """Print exactly one JSON object on stdout."""
     print(json.dumps(payload, indent=2, default=_plain, allow_nan=False))
+    _JSON_PRINTED[0] += 1
+
+
+def json_objects_printed() -> int:
+    """How many JSON objects :func:`print_json` has printed in this process.
+
+    The command line prints an error object only when the command printed none.
+    """
+    return _JSON_PRINTED[0]
+
+
+def json_error(kind: str, message: str, exit_code: int) -> dict[str, Any]:
+    """The ``--json`` object of a failed command: ``{"error": {type, message, exit_code}}``.
+
+    Examples
+    --------
+    >>> json_error("ResourceError", "too big", 2)
+    {'error': {'type': 'ResourceError', 'message': 'too big', 'exit_code': 2}}
+    """
+    return {"error": {"type": kind, "message": message, "exit_code": exit_code}}
 
 
 _UNITS = {"": 1, "B": 1, "K": 1e3, "KB": 1e3, "M": 1e6, "MB": 1e6, "G": 1e9, "GB": 1e9}

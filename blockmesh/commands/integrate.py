@@ -13,6 +13,7 @@ from blockmesh.commands._partitions import add_partition_arguments, check_partit
 from blockmesh.commands.common import add_domain_arguments, print_json, printable, resolve_target
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.quadrature import (
     RULES,
     IntegrationResult,
@@ -50,6 +51,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--level",
+        "-l",
         type=int,
         metavar="L",
         help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
@@ -158,7 +160,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
 
 
 def _has_curves(target: Any) -> bool:
-    curves = target.curves if isinstance(target, Mesh) else target.block_mesh().curves
+    curves = target.curves if isinstance(target, Mesh | PolygonMesh) else target.block_mesh().curves
     return curves is not None and len(curves) > 0
 
 
@@ -166,7 +168,7 @@ def _level(args: argparse.Namespace, target: Any) -> int | None:
     """The level asked for; by default 2 for a domain, and a mesh file's own level."""
     if args.level is not None:
         return int(args.level)
-    return None if isinstance(target, Mesh) else _DEFAULT_LEVEL
+    return None if isinstance(target, Mesh | PolygonMesh) else _DEFAULT_LEVEL
 
 
 def run(args: argparse.Namespace) -> int:
@@ -212,8 +214,9 @@ def run(args: argparse.Namespace) -> int:
             )  # fmt: skip
         elif args.exact_geometry:
             print(
-                "  geometry        straight: no curved edges here (a mesh read from a file "
-                "keeps its nodes on the curves but not the curves)"
+                "  geometry        straight: no curved edges here (a .msh, .vtk, .mat or OpenFOAM "
+                "file keeps the nodes on the curves but not the curves; .npz, .xdmf and .vtu "
+                "keep them)"
             )
         if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):

@@ -27,7 +27,7 @@ import numpy as np
 
 from blockmesh.curves.types import Curve
 from blockmesh.errors import ArgumentError
-from blockmesh.geometry.topology import edge_keys
+from blockmesh.geometry.topology import PolygonCells, edge_keys
 
 __all__ = ["CurvedEdges", "area_corrections", "curved_slots", "edge_points"]
 
@@ -100,15 +100,22 @@ class CurvedEdges:
         return out
 
 
-def curved_slots(cells: np.ndarray, n_points: int, curves: CurvedEdges):
+def curved_slots(
+    cells: np.ndarray | PolygonCells, n_points: int, curves: CurvedEdges
+) -> tuple[np.ndarray, np.ndarray]:
     """For every cell edge (slot), its row in ``curves`` (-1 when straight) and direction.
 
     ``cells`` is (M, k), k >= 2 (edge ``i`` from corner ``i`` to ``i + 1``; boundary edges are
-    (E, 2) cells). Returns ``(row (M, k), forward (M, k))``: ``forward`` is True where the cell
-    runs along the edge as the curve's parameter increases.
+    (E, 2) cells), or :class:`~blockmesh.geometry.topology.PolygonCells`. Returns
+    ``(row, forward)``, each (M, k) (flat, one per slot, for PolygonCells): ``forward`` is True
+    where the cell runs along the edge as the curve's parameter increases.
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    following = np.roll(cells, -1, axis=1)
+    if isinstance(cells, PolygonCells):
+        following = cells.following()
+        cells = cells.nodes
+    else:
+        cells = np.asarray(cells, dtype=np.int64)
+        following = np.roll(cells, -1, axis=1)
     keys = edge_keys(cells, following, n_points)
     curve_keys = edge_keys(curves.edges[:, 0], curves.edges[:, 1], n_points)
     order = np.argsort(curve_keys)
@@ -137,17 +144,25 @@ def edge_points(curves: CurvedEdges, level: int) -> np.ndarray:
     return out
 
 
-def area_corrections(cells: np.ndarray, n_points: int, curves: CurvedEdges | None) -> np.ndarray:
+def area_corrections(
+    cells: np.ndarray | PolygonCells, n_points: int, curves: CurvedEdges | None
+) -> np.ndarray:
     """For every cell, the signed area between its curved edges and their chords, shape (M,).
 
-    Positive where a curve bulges out of its cell. Cells without curved edges get 0.
+    Positive where a curve bulges out of its cell. Cells without curved edges get 0. ``cells``
+    is (M, k) or :class:`~blockmesh.geometry.topology.PolygonCells`.
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    out = np.zeros(cells.shape[0])
+    if not isinstance(cells, PolygonCells):
+        cells = np.asarray(cells, dtype=np.int64)
+    n_cells = cells.n_cells if isinstance(cells, PolygonCells) else cells.shape[0]
+    out = np.zeros(n_cells)
     if curves is None or len(curves) == 0:
         return out
     row, forward = curved_slots(cells, n_points, curves)
-    cell, _ = np.nonzero(row >= 0)
+    if isinstance(cells, PolygonCells):
+        cell = cells.slot_cell()[row >= 0]
+    else:
+        cell, _ = np.nonzero(row >= 0)
     rows, ahead = row[row >= 0], forward[row >= 0]
     first = np.where(ahead, curves.start[rows], curves.stop[rows])
     last = np.where(ahead, curves.stop[rows], curves.start[rows])

@@ -50,7 +50,7 @@ import numpy as np
 from blockmesh._system.atomic import atomic_file, check_target
 from blockmesh._system.memory import format_bytes, format_count
 from blockmesh._system.procfs import umask
-from blockmesh.checks import whole_number
+from blockmesh.checks import renamed_keywords, whole_number
 from blockmesh.distributed.files import (
     INDEX_SUFFIXES,
     piece_name,
@@ -449,9 +449,10 @@ def refine_to(
     )
 
 
+@renamed_keywords(function="f")
 def integrate_with_estimate(
     target: Domain | Mesh,
-    function: Any,
+    f: Any,
     *,
     order: int,
     level: int | None = None,
@@ -471,8 +472,10 @@ def integrate_with_estimate(
     client adds the values (``math.fsum``: the serial value to round-off) and the error
     estimates, and the result has converged when every partition's has. ``level`` is as for
     :func:`blockmesh.integrate`: a Domain's refinement level, or for a Mesh the level to reach
-    (above its own). ``function`` must be picklable: an expression string, or a function defined
-    at module level. ``max_points`` bounds the evaluations of the whole integral.
+    (above its own). ``f`` is the integrand as for :func:`blockmesh.integrate` and must be
+    picklable: an expression string, or a function defined at module level (``function=``, its
+    former name, still works with a :class:`DeprecationWarning`). ``max_points`` bounds the
+    evaluations of the whole integral.
     ``exact_geometry`` integrates over the true curved cells, as :func:`blockmesh.integrate`
     does (every piece carries its curved edges).
 
@@ -506,7 +509,7 @@ def integrate_with_estimate(
                 integrate_piece_task,
                 scattered,
                 p,
-                function,
+                f,
                 order,
                 rule,
                 budget,
@@ -539,17 +542,20 @@ def integrate_with_estimate(
     )
 
 
-def integrate(target: Domain | Mesh, function: Any, **options: Any) -> float:
+@renamed_keywords(function="f")
+def integrate(target: Domain | Mesh, f: Any, **options: Any) -> float:
     """The value of :func:`integrate_with_estimate` (same options): a float.
+
+    ``f`` as for :func:`blockmesh.integrate` (``function=`` is its deprecated name).
 
     Examples
     --------
     >>> import blockmesh, blockmesh.distributed as bd
-    >>> bd.integrate(blockmesh.load_domain("sp"), "1", order=1, level=2,
+    >>> bd.integrate(blockmesh.load_domain("sp"), f="1", order=1, level=2,
     ...              partitions=3, workers=1)  # doctest: +SKIP
     5.0
     """
-    return integrate_with_estimate(target, function, **options).value
+    return integrate_with_estimate(target, f, **options).value
 
 
 def gather(path: str | os.PathLike[str]) -> Mesh:

@@ -33,9 +33,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from blockmesh.checks import whole_number
-from blockmesh.errors import ArgumentError
+from blockmesh.errors import ArgumentError, ArgumentTypeError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.pipeline import refine
 from blockmesh.refinement.plan import RefinementPlan, plan_refinement
 
@@ -131,7 +132,7 @@ def _split_level(n_blocks: int, level: int, partitions: int) -> int:
     return level - 1
 
 
-def partition(target: Domain | Mesh, level: int, partitions: int) -> Partitioning:
+def partition(target: Domain | Mesh | PolygonMesh, level: int, partitions: int) -> Partitioning:
     """Cut the refinement of ``target`` to ``level`` into ``partitions`` balanced partitions.
 
     O(B 6^k) for the level-``k`` base mesh and its numbering plan; nothing of the final mesh is
@@ -141,7 +142,20 @@ def partition(target: Domain | Mesh, level: int, partitions: int) -> Partitionin
     ------
     ArgumentError
         For a level below 1 or more partitions than the mesh one level below has cells.
+    ArgumentTypeError
+        For a :class:`~blockmesh.mesh.polygons.PolygonMesh`: the pieces are uniform refinements
+        of pentagon blocks, whose nodes on shared edges are numbered by (edge, k/2^L); a mesh of
+        hanging nodes and polygons of other sizes has no such numbering, so it is refined,
+        written and integrated in one process.
     """
+    if isinstance(target, PolygonMesh):
+        raise ArgumentTypeError(
+            "the distributed (Dask) pieces refine pentagon blocks uniformly; a PolygonMesh "
+            f"({target.n_cells:,} cells of {int(target.cell_sizes().min())} to "
+            f"{int(target.cell_sizes().max())} vertices, hanging nodes) is refined, written and "
+            "integrated in one process: use blockmesh.refine, blockmesh.write and "
+            "blockmesh.integrate without partitions"
+        )
     level = whole_number(level, "level")
     partitions = whole_number(partitions, "partitions", minimum=1)
     coarse = target if isinstance(target, Mesh) else target.block_mesh()

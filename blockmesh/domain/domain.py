@@ -63,7 +63,7 @@ from blockmesh.errors import (
     DomainFormatError,
     TopologyError,
 )
-from blockmesh.geometry.polygons import interior_angles, signed_area
+from blockmesh.geometry.polygons import DIRECTIONS, edges_facing, interior_angles, signed_area
 from blockmesh.geometry.topology import boundary_loops, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.grading import check_grading
@@ -404,7 +404,10 @@ class Domain:
         patches : mapping of name to a list of polygon edges, optional
             An integer ``i`` is edge ``i`` of the outer boundary (from corner ``i`` to
             ``i + 1`` as given); ``"hole K"`` is every edge of hole ``K`` (0-based);
-            ``"hole K:E"`` is edge ``E`` of hole ``K``. Unlisted edges go to ``"boundary"``.
+            ``"hole K:E"`` is edge ``E`` of hole ``K``; ``"left"``, ``"right"``, ``"top"`` and
+            ``"bottom"`` are the outer boundary's edges facing that way (their outward normal
+            points most nearly there: :func:`blockmesh.geometry.edges_facing`) and not listed
+            by number in another patch. Unlisted edges go to ``"boundary"``.
         arcs : mapping of edge to Arc, optional
             Polygon edges that are circular arcs: edge ``i`` of the outer boundary, or
             ``"hole K:E"``, to an :class:`~blockmesh.curves.Arc` (``through`` or ``center``).
@@ -442,9 +445,8 @@ class Domain:
                 circles=circles,
             )  # fmt: skip
             return unsized.with_size(size)
-        if (
-            arcs or circles
-        ):  # decomposed through the chords, then curved: blockmesh.domain.curved_polygons
+        patches = _facing_resolved(patches, coords)
+        if arcs or circles:  # decomposed through the chords, then curved: domain.curved_polygons
             return curved_polygon(
                 cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
                 description=description,
@@ -891,6 +893,43 @@ def _hole_list(holes: Any) -> list[Any]:
 _HOLE_EDGE = re.compile(r"^hole (\d+)(?::(\d+))?$")
 
 
+def _facing_resolved(patches: Any, coords: Any) -> Any:
+    """``patches`` with the direction words (``"left"`` ...) replaced by outer edge indices.
+
+    An edge a patch lists by number (or by another word) stays there: a word takes the edges
+    facing its way that nothing else claims.
+    """
+    if not isinstance(patches, Mapping):
+        return patches
+    words = {
+        name: [e for e in edges if isinstance(e, str) and e.strip().lower() in DIRECTIONS]
+        for name, edges in patches.items()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+    }
+    if not any(words.values()):
+        return patches
+    facing = edges_facing(parse_points(coords, "polygon vertex"))
+    claimed: set[int] = {
+        int(e)
+        for edges in patches.values()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+        for e in edges
+        if isinstance(e, numbers.Integral)
+    }
+    resolved: dict[str, Any] = {}
+    for name, edges in patches.items():
+        if not words.get(name):
+            resolved[name] = edges
+            continue
+        listed = [e for e in edges if e not in words[name]]
+        for word in words[name]:
+            taken = [i for i in facing[word.strip().lower()] if i not in claimed]
+            listed += taken
+            claimed.update(taken)
+        resolved[name] = listed
+    return resolved
+
+
 def _ring_edge_patches(
     patches: Mapping[str, Iterable[int | str]] | None, sizes: list[int]
 ) -> list[list[str | None]] | None:
@@ -923,8 +962,9 @@ def _ring_edge_patches(
 def _ring_edges(patch_name: str, edge: object, sizes: list[int]) -> list[tuple[int, int]]:
     """The (ring, edge) pairs one item of a polygon patch list names."""
     forms = (
-        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K) or '
-        '"hole K:E" (edge E of hole K)'
+        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K), '
+        '"hole K:E" (edge E of hole K) or left, right, top, bottom (the outer edges facing '
+        "that way)"
     )
     if isinstance(edge, numbers.Integral) and not isinstance(edge, bool):
         if not 0 <= int(edge) < sizes[0]:

@@ -14,6 +14,9 @@
                                     (:meth:`Domain.from_mesh`)
 =================================== ===========================================================
 
+The extension decides how a file is read (its content is not sniffed): a file with another
+extension, or none, is refused with the list of the known ones.
+
 :func:`parse_polygon_string` reads the inline ``"x1,y1 x2,y2 ..."`` form of ``--polygon`` and
 ``--hole``.
 
@@ -29,6 +32,7 @@ from __future__ import annotations
 
 import difflib
 import json
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -93,8 +97,15 @@ def parse_polygon_string(text: str, *, what: str = "polygon") -> np.ndarray:
     return np.array(points, dtype=np.float64)
 
 
-def load_domain(name_or_path: str | Path) -> Domain:
+def load_domain(
+    name_or_path: str | Path, *, patches: Mapping[str, Iterable[int | str]] | None = None
+) -> Domain:
     """A catalogue domain by name, or a domain, outline or mesh file by path.
+
+    ``patches`` names edges of an outline (a ``.wkt`` or ``.geojson`` file), as
+    :meth:`Domain.from_polygon` takes them (edge numbers, ``"hole K"``, ``"hole K:E"``,
+    ``"left"`` ...), added to a GeoJSON feature's own; the other sources name their patches
+    themselves, and giving ``patches`` for them is an error.
 
     Examples
     --------
@@ -108,13 +119,19 @@ def load_domain(name_or_path: str | Path) -> Domain:
         if not path.exists():
             raise DomainFormatError(f"{path}: no such file")
         if suffix == ".wkt":
-            return _from_wkt(path)
+            return _from_wkt(path, patches)
         if suffix in (".geojson", ".json"):
-            return _from_geojson(path)
+            return _from_geojson(path, patches)
+        if patches:
+            raise DomainFormatError(_NOT_AN_OUTLINE.format(name=path))
         if suffix in MESH_SUFFIXES or path.is_dir():
             return Domain.from_mesh(path)
+        if suffix != ".toml" and path.is_file():  # (a device or a FIFO: said by the reader)
+            raise DomainFormatError(_unknown_kind(path, suffix))
         return Domain.from_toml(path)
     names = catalogue_names()
+    if patches and text in names:
+        raise DomainFormatError(_NOT_AN_OUTLINE.format(name=text))
     if text not in names:
         close = difflib.get_close_matches(text, names, n=3)
         hint = f" Did you mean {', '.join(close)}?" if close else ""
@@ -125,7 +142,25 @@ def load_domain(name_or_path: str | Path) -> Domain:
     return Domain.from_toml(catalogue_path(text))
 
 
-def _from_wkt(path: Path) -> Domain:
+_NOT_AN_OUTLINE = (
+    "patches name edges of a polygon outline (a .wkt or .geojson file, or an inline polygon); "
+    "{name} names its own patches (a domain file in its [patches] table, a mesh file on its "
+    "boundary)"
+)
+
+
+def _unknown_kind(path: Path, suffix: str) -> str:
+    """The message for a file whose extension says nothing blockmesh reads (no sniffing)."""
+    what = f"the extension {suffix!r} is not one" if suffix else "it has no extension, one"
+    return (
+        f"{path}: {what} blockmesh knows (it goes by the extension); it reads domain files "
+        f".toml, .wkt, .geojson and .json, and meshes {' '.join(sorted(MESH_SUFFIXES))} (or an "
+        "OpenFOAM case folder): rename the file to the extension of its contents (a Well-Known "
+        "Text polygon: .wkt)"
+    )
+
+
+def _from_wkt(path: Path, patches: Mapping[str, Iterable[int | str]] | None = None) -> Domain:
     import shapely
 
     text = read_text_bounded(path, what="WKT file")
@@ -134,11 +169,12 @@ def _from_wkt(path: Path) -> Domain:
     except (shapely.errors.ShapelyError, ValueError) as error:
         raise DomainFormatError(f"{path}: not Well-Known Text ({error})") from None
     return _with_source(
-        path, lambda: Domain.from_shapely(_one_polygon(geometry, path), name=path.stem)
+        path,
+        lambda: Domain.from_shapely(_one_polygon(geometry, path), name=path.stem, patches=patches),
     )
 
 
-def _from_geojson(path: Path) -> Domain:
+def _from_geojson(path: Path, extra: Mapping[str, Iterable[int | str]] | None = None) -> Domain:
     import shapely.geometry
 
     text = read_text_bounded(path, what="GeoJSON file")
@@ -165,6 +201,8 @@ def _from_geojson(path: Path) -> Domain:
             f"{path}: properties.patches must be an object of patch name: [edges], got "
             f"{type(patches).__name__}"
         )
+    if extra:
+        patches = {**(patches or {}), **extra}
     return _with_source(
         path,
         lambda: Domain.from_shapely(

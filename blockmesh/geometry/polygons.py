@@ -24,8 +24,10 @@ import numpy as np
 
 __all__ = [
     "COLLINEAR_SIN_TOL",
+    "DIRECTIONS",
     "LocalFrame",
     "corner_sines",
+    "edges_facing",
     "interior_angles",
     "is_strictly_convex",
     "local_frame",
@@ -82,6 +84,39 @@ def local_frame(points: np.ndarray) -> LocalFrame:
     origin = low + (high - low) / 2
     scale = float(np.hypot(*(high - low)))
     return LocalFrame(origin, scale if scale > 0 else 1.0)
+
+
+#: The directions an edge of a polygon can face, as named in patch lists, with their unit vectors.
+DIRECTIONS = {"left": (-1.0, 0.0), "right": (1.0, 0.0), "bottom": (0.0, -1.0), "top": (0.0, 1.0)}
+
+
+def edges_facing(ring: np.ndarray) -> dict[str, list[int]]:
+    """The edges of a closed ring that face each of :data:`DIRECTIONS`, by their index.
+
+    Edge ``i`` runs from corner ``i`` to corner ``i + 1``; it faces the direction its outward
+    normal points most nearly to (outward from the region the ring bounds, whichever way the
+    ring runs). An edge at exactly 45 degrees faces left or right; an edge of length zero faces
+    nowhere.
+
+    Examples
+    --------
+    >>> bracket = np.array([[0, 0], [4, 0], [4, 1], [1, 1], [1, 3], [0, 3]], dtype=float)
+    >>> edges_facing(bracket)
+    {'left': [5], 'right': [1, 3], 'bottom': [0], 'top': [2, 4]}
+    >>> edges_facing(bracket[::-1])["right"]  # clockwise: the same edges, numbered backwards
+    [1, 3]
+    """
+    ring = np.asarray(ring, dtype=np.float64)
+    step = np.roll(ring, -1, axis=0) - ring
+    normal = np.column_stack([step[:, 1], -step[:, 0]])  # outward for a counter-clockwise ring
+    if float(signed_area(ring)) < 0:
+        normal = -normal
+    towards = normal @ np.array(list(DIRECTIONS.values())).T  # (K, 4)
+    facing = np.argmax(towards, axis=1)
+    moving = np.any(step != 0, axis=1)
+    return {
+        word: np.flatnonzero(moving & (facing == k)).tolist() for k, word in enumerate(DIRECTIONS)
+    }
 
 
 def signed_area(polygons: np.ndarray) -> np.ndarray:

@@ -1,10 +1,15 @@
 """Topology of polygon meshes, written once: edge keys, neighbours, boundaries, loops, pieces.
 
 Every function takes cells as an integer array of shape ``(M, k)`` (``k`` corners each,
-counter-clockwise, node ids ``0..n_points-1``) and works with whole-array operations. An undirected
-edge is keyed by one int64, ``min * n_points + max`` (no dense lookup tables). A cell edge is
-addressed by its **slot** ``k * cell + i``: the edge from corner ``i`` to corner ``i + 1``.
-Boundary edges are directed as the cells run along them, so the domain is on their left.
+counter-clockwise, node ids ``0..n_points-1``) or, for cells of different sizes, as
+:class:`PolygonCells` (compressed rows: offsets and the nodes of all cells one after another), and
+works with whole-array operations. An undirected edge is keyed by one int64,
+``min * n_points + max`` (no dense lookup tables). A cell edge is addressed by its **slot**: for
+an ``(M, k)`` array ``k * cell + i``, the edge from corner ``i`` to corner ``i + 1``; for
+:class:`PolygonCells` the position of its first node in ``nodes``. Functions that return one value
+per slot return an ``(M, k)`` array for rectangular cells and a flat ``(S,)`` array for
+:class:`PolygonCells`. Boundary edges are directed as the cells run along them, so the domain is on
+their left.
 
 Refinement, domain validation, the conformity certificate and every writer use these functions.
 
@@ -18,15 +23,22 @@ Examples
 [[0, 1], [1, 5], [5, 6], [6, 7], [7, 2], [2, 3], [3, 4], [4, 0]]
 >>> connected_pieces(cell_neighbours(two, 8))[0]
 1
+>>> mixed = PolygonCells.from_lists([[0, 1, 2, 3, 4], [1, 5, 2]])
+>>> cell_neighbours(mixed, 6).tolist()
+[-1, 7, -1, -1, -1, -1, -1, 1]
 """
 
 from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
 from blockmesh.errors import TopologyError
 
 __all__ = [
+    "PolygonCells",
     "boundary_loops",
     "boundary_of_cells",
     "boundary_slots",
@@ -54,11 +66,114 @@ def edge_keys(a: np.ndarray, b: np.ndarray, n_points: int) -> np.ndarray:
     return np.minimum(a, b) * n_points + np.maximum(a, b)
 
 
-def _next(cells: np.ndarray) -> np.ndarray:
+class PolygonCells(NamedTuple):
+    """Cells of any numbers of corners in compressed rows (CSR).
+
+    Cell ``c`` is ``nodes[offsets[c]:offsets[c + 1]]``, counter-clockwise. Its slots (edges) are
+    the positions ``offsets[c] .. offsets[c + 1] - 1``: slot ``s`` runs from ``nodes[s]`` to
+    the next node of the same cell (the cell's first node after its last).
+
+    Examples
+    --------
+    >>> cells = PolygonCells.from_lists([[0, 1, 2], [2, 1, 3, 4]])
+    >>> cells.sizes().tolist(), cells.following().tolist(), cells.slot_cell().tolist()
+    ([3, 4], [1, 2, 0, 1, 3, 4, 2], [0, 0, 0, 1, 1, 1, 1])
+    """
+
+    offsets: np.ndarray
+    nodes: np.ndarray
+
+    @classmethod
+    def from_lists(cls, cells: Sequence[Sequence[int]]) -> PolygonCells:
+        """Compressed rows of a list of node-id lists."""
+        sizes = np.array([len(c) for c in cells], dtype=np.int64)
+        offsets = np.zeros(sizes.size + 1, dtype=np.int64)
+        np.cumsum(sizes, out=offsets[1:])
+        nodes = np.array([v for c in cells for v in c], dtype=np.int64)
+        return cls(offsets, nodes)
+
+    @classmethod
+    def from_array(cls, cells: np.ndarray) -> PolygonCells:
+        """Compressed rows of an ``(M, k)`` array (each row one cell)."""
+        cells = np.asarray(cells, dtype=np.int64)
+        m, k = cells.shape
+        return cls(np.arange(m + 1, dtype=np.int64) * k, cells.reshape(-1))
+
+    @property
+    def n_cells(self) -> int:
+        """Number of cells M."""
+        return int(self.offsets.shape[0]) - 1
+
+    def sizes(self) -> np.ndarray:
+        """Corners of every cell (M,)."""
+        return np.diff(self.offsets)
+
+    def slot_cell(self) -> np.ndarray:
+        """The cell of every slot (S,)."""
+        return np.repeat(np.arange(self.n_cells, dtype=np.int64), self.sizes())
+
+    def following(self) -> np.ndarray:
+        """The node after every slot's node in its cell (S,): the slot's second end."""
+        out = np.empty_like(self.nodes)
+        if out.size:
+            out[:-1] = self.nodes[1:]
+            last = self.offsets[1:] - 1
+            nonempty = self.offsets[1:] > self.offsets[:-1]
+            out[last[nonempty]] = self.nodes[self.offsets[:-1][nonempty]]
+        return out
+
+    def next_slot(self) -> np.ndarray:
+        """The slot after every slot in its cell (S,)."""
+        out = np.arange(1, self.nodes.size + 1, dtype=np.int64)
+        if out.size:
+            last = self.offsets[1:] - 1
+            nonempty = self.offsets[1:] > self.offsets[:-1]
+            out[last[nonempty]] = self.offsets[:-1][nonempty]
+        return out
+
+    def previous_slot(self) -> np.ndarray:
+        """The slot before every slot in its cell (S,)."""
+        out = np.empty(self.nodes.size, dtype=np.int64)
+        out[self.next_slot()] = np.arange(self.nodes.size, dtype=np.int64)
+        return out
+
+
+#: Cells as the functions here take them: an (M, k) array of node ids, or PolygonCells.
+Cells = np.ndarray | PolygonCells
+
+
+def _next(cells: np.ndarray | PolygonCells) -> np.ndarray:
+    """The second end of every slot: (M, k) for an array, (S,) for PolygonCells."""
+    if isinstance(cells, PolygonCells):
+        return cells.following()
     return np.roll(cells, -1, axis=1)
 
 
-def edge_index(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
+def _as_cells(cells: np.ndarray | PolygonCells | Sequence) -> np.ndarray | PolygonCells:
+    """``cells`` as an int64 (M, k) array, or the PolygonCells it is."""
+    if isinstance(cells, PolygonCells):
+        return cells
+    return np.asarray(cells, dtype=np.int64)
+
+
+def _starts(cells: np.ndarray | PolygonCells) -> np.ndarray:
+    """The first end of every slot, in slot order (flat)."""
+    return cells.nodes if isinstance(cells, PolygonCells) else cells.ravel()
+
+
+def _cells_of_slots(cells: np.ndarray | PolygonCells, slots: np.ndarray) -> np.ndarray:
+    """The cell of each of ``slots``."""
+    if isinstance(cells, PolygonCells):
+        return np.searchsorted(cells.offsets, slots, side="right") - 1
+    k = cells.shape[1] if cells.ndim == 2 else 1
+    return np.asarray(slots) // k
+
+
+def _slot_shape(cells: np.ndarray | PolygonCells) -> tuple[int, ...]:
+    return cells.nodes.shape if isinstance(cells, PolygonCells) else cells.shape
+
+
+def edge_index(cells: Cells, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     """The sorted unique edge keys, and for every slot (M, k) the index of its edge among them.
 
     O(M log M).
@@ -69,13 +184,13 @@ def edge_index(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray
     >>> keys.tolist(), slot_edge.tolist()
     ([1, 2, 6, 7, 11], [[0, 2, 1], [2, 3, 4]])
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    keys = edge_keys(cells, _next(cells), n_points)
-    unique, inverse = np.unique(keys.ravel(), return_inverse=True)
-    return unique, inverse.reshape(cells.shape)
+    cells = _as_cells(cells)
+    keys = edge_keys(_starts(cells), _next(cells).ravel(), n_points)
+    unique, inverse = np.unique(keys, return_inverse=True)
+    return unique, inverse.reshape(_slot_shape(cells))
 
 
-def unique_edges(cells: np.ndarray, n_points: int) -> np.ndarray:
+def unique_edges(cells: Cells, n_points: int) -> np.ndarray:
     """Unique undirected edges (E, 2) of polygon cells, sorted by (min, max) node id.
 
     Examples
@@ -83,12 +198,12 @@ def unique_edges(cells: np.ndarray, n_points: int) -> np.ndarray:
     >>> unique_edges(np.array([[0, 1, 2, 3, 4], [1, 5, 6, 7, 2]]), 8).shape
     (9, 2)
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    keys = np.unique(edge_keys(cells, _next(cells), n_points).ravel())
+    cells = _as_cells(cells)
+    keys = np.unique(edge_keys(_starts(cells), _next(cells).ravel(), n_points))
     return np.stack(np.divmod(keys, n_points), axis=1)
 
 
-def cell_neighbours(cells: np.ndarray, n_points: int) -> np.ndarray:
+def cell_neighbours(cells: Cells, n_points: int) -> np.ndarray:
     """For every slot, the slot of the same edge in the cell across it, or -1 on the boundary.
 
     Raises :class:`~blockmesh.errors.TopologyError` naming the edge and its cells when an edge
@@ -101,9 +216,8 @@ def cell_neighbours(cells: np.ndarray, n_points: int) -> np.ndarray:
     ...
     blockmesh.errors.TopologyError: edge (1, 2) belongs to three or more cells (0, 1, 2); ...
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    k = cells.shape[1] if cells.ndim == 2 else 1
-    keys = edge_keys(cells, _next(cells), n_points).ravel()
+    cells = _as_cells(cells)
+    keys = edge_keys(_starts(cells), _next(cells).ravel(), n_points)
     order = np.argsort(keys, kind="stable")
     sorted_keys = keys[order]
     same_as_next = sorted_keys[1:] == sorted_keys[:-1]
@@ -112,7 +226,7 @@ def cell_neighbours(cells: np.ndarray, n_points: int) -> np.ndarray:
         first = int(np.flatnonzero(triple)[0])
         a, b = divmod(int(sorted_keys[first]), n_points)
         run = order[first : first + 3]
-        owners = sorted({int(x) // k for x in run})
+        owners = sorted({int(x) for x in _cells_of_slots(cells, run)})
         raise TopologyError(
             f"edge ({a}, {b}) belongs to three or more cells ({', '.join(map(str, owners))}); "
             "an edge may be shared by two cells at most"
@@ -121,10 +235,10 @@ def cell_neighbours(cells: np.ndarray, n_points: int) -> np.ndarray:
     pairs = np.flatnonzero(same_as_next)
     neighbour[order[pairs]] = order[pairs + 1]
     neighbour[order[pairs + 1]] = order[pairs]
-    return neighbour.reshape(cells.shape)
+    return neighbour.reshape(_slot_shape(cells))
 
 
-def boundary_of_cells(cells: np.ndarray, n_points: int) -> np.ndarray:
+def boundary_of_cells(cells: Cells, n_points: int) -> np.ndarray:
     """Directed boundary edges (E, 2): the cell edges no other cell shares, in slot order.
 
     Examples
@@ -132,16 +246,16 @@ def boundary_of_cells(cells: np.ndarray, n_points: int) -> np.ndarray:
     >>> boundary_of_cells(np.array([[0, 1, 2, 3, 4]]), 5).tolist()
     [[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]]
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    nxt = _next(cells)
-    keys = edge_keys(cells, nxt, n_points).ravel()
+    cells = _as_cells(cells)
+    start, stop = _starts(cells), _next(cells).ravel()
+    keys = edge_keys(start, stop, n_points)
     _, inverse, counts = np.unique(keys, return_inverse=True, return_counts=True)
     on_boundary = counts[inverse] == 1
-    return np.stack([cells.ravel()[on_boundary], nxt.ravel()[on_boundary]], axis=1)
+    return np.stack([start[on_boundary], stop[on_boundary]], axis=1)
 
 
 def boundary_slots(
-    cells: np.ndarray, neighbour: np.ndarray, boundary_edges: np.ndarray, n_points: int
+    cells: Cells, neighbour: np.ndarray, boundary_edges: np.ndarray, n_points: int
 ) -> np.ndarray:
     """The slot of every listed boundary edge (directed as the cells run), in the list's order.
 
@@ -159,9 +273,9 @@ def boundary_slots(
     >>> boundary_slots(cells, np.full((1, 5), -1), edges, 5).tolist()
     [2, 3, 4, 0, 1]
     """
-    cells = np.asarray(cells, dtype=np.int64)
+    cells = _as_cells(cells)
     free = np.flatnonzero(np.asarray(neighbour).ravel() < 0)
-    start = cells.ravel()[free]
+    start = _starts(cells)[free]
     stop = _next(cells).ravel()[free]
     edges = np.asarray(boundary_edges, dtype=np.int64).reshape(-1, 2)
     if edges.shape[0] != free.size:
@@ -191,11 +305,14 @@ def boundary_slots(
 _KEY_CHUNK = 1 << 15
 
 
-def _fill_edge_keys(cells: np.ndarray, n_points: int, out: np.ndarray) -> None:
+def _fill_edge_keys(cells: np.ndarray | PolygonCells, n_points: int, out: np.ndarray) -> None:
     """Write every slot's undirected edge key (:func:`edge_keys`) into ``out`` (``cells.size``).
 
     Chunk by chunk: the temporaries are a chunk's, not the mesh's.
     """
+    if isinstance(cells, PolygonCells):
+        out[:] = edge_keys(cells.nodes, cells.following(), n_points)
+        return
     k = cells.shape[1]
     for start in range(0, cells.shape[0], _KEY_CHUNK):
         a = cells[start : start + _KEY_CHUNK]
@@ -206,7 +323,9 @@ def _fill_edge_keys(cells: np.ndarray, n_points: int, out: np.ndarray) -> None:
         target += np.maximum(a, b)
 
 
-def _directed_keys_among(cells: np.ndarray, free: np.ndarray, n_points: int) -> np.ndarray:
+def _directed_keys_among(
+    cells: np.ndarray | PolygonCells, free: np.ndarray, n_points: int
+) -> np.ndarray:
     """Sorted directed keys of the slots whose two ends are both nodes of a ``free`` edge.
 
     Every slot running along a free edge is among them (a few others may be, e.g. a cell edge
@@ -219,9 +338,15 @@ def _directed_keys_among(cells: np.ndarray, free: np.ndarray, n_points: int) -> 
     on_free[ends[0]] = True
     on_free[ends[1]] = True
     found = []
-    for start in range(0, cells.shape[0], _KEY_CHUNK):
-        a = cells[start : start + _KEY_CHUNK]
-        b = _next(a)
+    pieces: Iterable[tuple[np.ndarray, np.ndarray]]
+    if isinstance(cells, PolygonCells):
+        pieces = [(cells.nodes, cells.following())]
+    else:
+        pieces = (
+            (cells[start : start + _KEY_CHUNK], _next(cells[start : start + _KEY_CHUNK]))
+            for start in range(0, cells.shape[0], _KEY_CHUNK)
+        )
+    for a, b in pieces:
         both = on_free[a]
         both &= on_free[b]
         if both.any():
@@ -231,7 +356,7 @@ def _directed_keys_among(cells: np.ndarray, free: np.ndarray, n_points: int) -> 
     return keys
 
 
-def check_boundary(cells: np.ndarray, boundary_edges: np.ndarray, n_points: int) -> None:
+def check_boundary(cells: Cells, boundary_edges: np.ndarray, n_points: int) -> None:
     """Raise TopologyError unless ``boundary_edges`` are exactly the cells' free edges, directed.
 
     The same verdict as :func:`boundary_slots` on :func:`cell_neighbours`, in one int64 per slot
@@ -249,9 +374,9 @@ def check_boundary(cells: np.ndarray, boundary_edges: np.ndarray, n_points: int)
     ...
     blockmesh.errors.TopologyError: boundary edge 2 (2, 3) is not a cell edge without a ...
     """
-    cells = np.asarray(cells, dtype=np.int64)
+    cells = _as_cells(cells)
     edges = np.asarray(boundary_edges, dtype=np.int64).reshape(-1, 2)
-    keys = np.empty(cells.size, dtype=np.int64)
+    keys = np.empty(_starts(cells).size, dtype=np.int64)
     _fill_edge_keys(cells, n_points, keys)
     keys.sort()
     same = keys[1:] == keys[:-1]
@@ -294,7 +419,7 @@ def check_boundary(cells: np.ndarray, boundary_edges: np.ndarray, n_points: int)
         raise TopologyError("a boundary edge is listed twice")
 
 
-def boundary_loops(cells: np.ndarray, neighbour: np.ndarray) -> np.ndarray:
+def boundary_loops(cells: Cells, neighbour: np.ndarray) -> np.ndarray:
     """Boundary edges (E, 2) chained into closed loops, directed with the domain on their left.
 
     Loops start at their lowest vertex id and are listed by it; where several boundary edges leave
@@ -306,11 +431,10 @@ def boundary_loops(cells: np.ndarray, neighbour: np.ndarray) -> np.ndarray:
     >>> boundary_loops(np.array([[0, 1, 2, 3, 4]]), np.full((1, 5), -1)).tolist()
     [[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]]
     """
-    cells = np.asarray(cells, dtype=np.int64)
-    k = cells.shape[1]
-    c, e = np.nonzero(np.asarray(neighbour) < 0)
-    start = cells[c, e]
-    stop = cells[c, (e + 1) % k]
+    cells = _as_cells(cells)
+    free = np.flatnonzero(np.asarray(neighbour).ravel() < 0)
+    start = _starts(cells)[free]
+    stop = _next(cells).ravel()[free]
     by_start = np.lexsort((stop, start))
     leaving: dict[int, list[int]] = {}
     for j in by_start.tolist():
@@ -345,16 +469,26 @@ def count_loops(boundary_edges: np.ndarray) -> int:
     return graph_components(nodes.size, local[:, 0], local[:, 1])[0]
 
 
-def connected_pieces(neighbour: np.ndarray) -> tuple[int, np.ndarray]:
+def connected_pieces(
+    neighbour: np.ndarray | tuple[np.ndarray, PolygonCells],
+) -> tuple[int, np.ndarray]:
     """Pieces of cells joined through whole shared edges: their number and each cell's piece.
 
-    Cells touching only at a corner are in different pieces.
+    Cells touching only at a corner are in different pieces. ``neighbour`` is what
+    :func:`cell_neighbours` returns for an ``(M, k)`` array, or for :class:`PolygonCells` the
+    pair ``(neighbour, cells)``.
 
     Examples
     --------
     >>> connected_pieces(np.array([[-1, -1, -1], [-1, -1, -1]]))
     (2, array([0, 1], dtype=int32))
     """
+    if isinstance(neighbour, tuple):  # (neighbour slots (S,), PolygonCells)
+        flat, cells = np.asarray(neighbour[0], dtype=np.int64), neighbour[1]
+        own = np.flatnonzero(flat >= 0)
+        return graph_components(
+            cells.n_cells, _cells_of_slots(cells, own), _cells_of_slots(cells, flat[own])
+        )
     neighbour = np.asarray(neighbour, dtype=np.int64)
     m, k = neighbour.shape
     c, e = np.nonzero(neighbour >= 0)

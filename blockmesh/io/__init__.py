@@ -54,6 +54,7 @@ from blockmesh.errors import BlockMeshError, ExportError
 from blockmesh.io.common import Format, check_mesh
 from blockmesh.io.split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "FORMATS",
@@ -204,7 +205,7 @@ def check_options(
 
 
 def write(
-    mesh: Mesh,
+    mesh: Mesh | PolygonMesh,
     path: str | os.PathLike[str],
     *,
     format: str | None = None,
@@ -216,7 +217,9 @@ def write(
 
     Parameters
     ----------
-    mesh : Mesh
+    mesh : Mesh or PolygonMesh
+        A PolygonMesh (cells of any vertex count, e.g. from local refinement) is written as the
+        format holds polygons (see :mod:`blockmesh.io.polygons`) and read back as one.
     path : str or PathLike
         The target file, or for OpenFOAM a case directory or ``.../polyMesh``.
     format : str, optional
@@ -226,7 +229,7 @@ def write(
         ``tri5``); refused by the other formats.
     compression : str, optional
         ``"none"``, ``"zlib"`` or ``"lzma"`` as the format allows (``Format.compressions``);
-        default the format's own: ``zlib`` for VTU, ``none`` for the others.
+        default ``none`` (the fastest) for every format.
     **options
         Format-specific options (``Format.options``), e.g. ``dz=0.1`` for OpenFOAM.
 
@@ -261,8 +264,11 @@ def write(
     return fmt.writer(mesh, Path(path), **kwargs)
 
 
-def read(path: str | os.PathLike[str], *, format: str | None = None) -> Mesh:
+def read(path: str | os.PathLike[str], *, format: str | None = None) -> Mesh | PolygonMesh:
     """Read a mesh written by :func:`write` (format from ``format`` or the path).
+
+    A file of polygon cells (a PolygonMesh written, or cells that are not all pentagons) is
+    read as a :class:`~blockmesh.mesh.polygons.PolygonMesh`, anything else as a Mesh.
 
     Raises
     ------

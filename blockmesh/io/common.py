@@ -13,21 +13,28 @@ Examples
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+import warnings
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from blockmesh.errors import BlockMeshError, ExportError
+from blockmesh.curves.edges import CurvedEdges
+from blockmesh.curves.types import curve_from_fields
+from blockmesh.errors import BlockMeshError, BlockMeshWarning, ExportError
 from blockmesh.geometry.topology import boundary_of_cells
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
+    "CURVE_ARRAYS",
     "METADATA_VERSION",
     "Format",
     "check_mesh",
+    "curve_arrays",
+    "curves_from_arrays",
     "decode_metadata",
     "encode_metadata",
     "mesh_from_arrays",
@@ -54,7 +61,7 @@ class Format:
         ``writer(mesh, path, **options) -> Path``, the path written; it writes atomically
         (:mod:`blockmesh._system.atomic`).
     reader : callable or None
-        ``reader(path) -> Mesh``.
+        ``reader(path) -> Mesh``, or a PolygonMesh for a file of polygon cells.
     splits : tuple of str
         For a format without pentagons, the ways of splitting them it takes (names of
         :data:`blockmesh.io.SPLITS`), the first being the default; empty when the format keeps
@@ -71,7 +78,7 @@ class Format:
     description: str
     extensions: tuple[str, ...]
     writer: Callable[..., Path] = field(repr=False)
-    reader: Callable[[Path], Mesh] | None = field(default=None, repr=False)
+    reader: Callable[[Path], Mesh | PolygonMesh] | None = field(default=None, repr=False)
     splits: tuple[str, ...] = ()
     compressions: tuple[str, ...] = ("none",)
     directory: bool = False
@@ -119,19 +126,25 @@ class Format:
         return ", ".join(parts) or "no options"
 
 
-def check_mesh(mesh: Any) -> Mesh:
-    """``mesh`` itself if it is a non-empty :class:`~blockmesh.mesh.Mesh`, else ExportError."""
-    if not isinstance(mesh, Mesh):
+def check_mesh(mesh: Any) -> Mesh | PolygonMesh:
+    """``mesh`` itself if it is a non-empty Mesh or PolygonMesh, else ExportError."""
+    if not isinstance(mesh, Mesh | PolygonMesh):
         raise ExportError(
-            f"write() takes a blockmesh Mesh (from blockmesh.refine), got {type(mesh).__name__}"
+            "write() takes a blockmesh Mesh or PolygonMesh (from blockmesh.refine), got "
+            f"{type(mesh).__name__}"
         )
     if mesh.n_cells == 0:
         raise ExportError("the mesh has no cells; there is nothing to write")
     return mesh
 
 
-def encode_metadata(mesh: Mesh, **extra: Any) -> str:
-    """The names and level of a mesh (what the arrays cannot carry), plus ``extra``, as JSON."""
+def encode_metadata(mesh: Mesh | PolygonMesh, **extra: Any) -> str:
+    """The names and level of a mesh (what the arrays cannot carry), plus ``extra``, as JSON.
+
+    A mesh with curved edges also records how many (``curved_edges``): a reader of a format that
+    does not keep the curves then says that refining the mesh further gives straight edges.
+    """
+    curved = {"curved_edges": len(mesh.curves)} if mesh.curves else {}
     return json.dumps(
         {
             "blockmesh_io": METADATA_VERSION,
@@ -139,10 +152,88 @@ def encode_metadata(mesh: Mesh, **extra: Any) -> str:
             "level": int(mesh.level),
             "patch_names": list(mesh.patch_names),
             "region_names": list(mesh.region_names),
+            **curved,
             **extra,
         },
         ensure_ascii=False,
         separators=(",", ":"),
+    )
+
+
+#: The arrays that carry a mesh's curves (:func:`curve_arrays`): the curved edges' nodes
+#: (E, 2), their curve (E,), the curve's parameter at each end (E,) twice, and the curves
+#: themselves (kind, ends and shape) as the UTF-8 bytes of a JSON list.
+CURVE_ARRAYS = ("curve_edges", "curve_index", "curve_start", "curve_stop", "curve_shapes")
+
+
+def curve_arrays(mesh: Mesh | PolygonMesh) -> dict[str, np.ndarray]:
+    """The curves of ``mesh`` as arrays a file can hold (``{}`` when it has none).
+
+    The keys are :data:`CURVE_ARRAYS`; :func:`curves_from_arrays` rebuilds the curves exactly
+    (JSON writes every float so that it reads back bit for bit).
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> arrays = curve_arrays(blockmesh.load_domain("annulus").mesh(1))
+    >>> arrays["curve_edges"].shape, arrays["curve_shapes"].dtype
+    ((32, 2), dtype('uint8'))
+    >>> len(curves_from_arrays(arrays, "annulus"))
+    32
+    """
+    curves = mesh.curves
+    if not curves:
+        return {}
+    shapes = [
+        {"kind": c.kind, "start": list(c.start or ()), "end": list(c.end or ()), **c.to_fields()}
+        for c in curves.curves
+    ]
+    text = json.dumps(shapes, separators=(",", ":"))
+    return {
+        "curve_edges": np.asarray(curves.edges, dtype=np.int64),
+        "curve_index": np.asarray(curves.curve, dtype=np.int64),
+        "curve_start": np.asarray(curves.start, dtype=np.float64),
+        "curve_stop": np.asarray(curves.stop, dtype=np.float64),
+        "curve_shapes": np.frombuffer(text.encode("utf-8"), dtype=np.uint8),
+    }
+
+
+def curves_from_arrays(arrays: Mapping[str, Any], where: str) -> CurvedEdges | None:
+    """The curves stored by :func:`curve_arrays` in ``arrays`` (None when they are not there).
+
+    Raises :class:`ExportError` naming ``where`` for arrays that are there but broken.
+    """
+    if not all(key in arrays for key in CURVE_ARRAYS):
+        return None
+    try:
+        shapes = json.loads(bytes(np.asarray(arrays["curve_shapes"], dtype=np.uint8)))
+        curves = []
+        for k, shape in enumerate(shapes):
+            fields = dict(shape)
+            kind, start, end = fields.pop("kind"), fields.pop("start"), fields.pop("end")
+            curve = curve_from_fields(kind, fields, f"{where}: curve {k}")
+            curves.append(curve.with_ends(start, end, f"curve {k}"))
+        edges = np.asarray(arrays["curve_edges"]).reshape(-1, 2)
+        return CurvedEdges(
+            edges=_index_array(edges, edges.size, "curve_edges", where).reshape(-1, 2),
+            curve=_index_array(arrays["curve_index"], edges.shape[0], "curve_index", where),
+            start=np.asarray(arrays["curve_start"], dtype=np.float64).reshape(-1),
+            stop=np.asarray(arrays["curve_stop"], dtype=np.float64).reshape(-1),
+            curves=tuple(curves),
+        )
+    except ExportError:
+        raise
+    except (BlockMeshError, ValueError, TypeError, KeyError, AttributeError) as error:
+        raise ExportError(f"{where}: the curved edges it stores are damaged ({error})") from None
+
+
+def _warn_dropped_curves(count: int, where: str) -> None:
+    warnings.warn(
+        f"{where} was written from a mesh with {count:,} curved edges, which this format does "
+        "not keep: its nodes are on the curves, but refining it further puts the new nodes on "
+        "straight edges (write .npz, .xdmf or .vtu to keep the curves)",
+        BlockMeshWarning,
+        stacklevel=4,
     )
 
 
@@ -218,6 +309,8 @@ def mesh_from_arrays(
     patch_names: tuple[str, ...] | list[str] | None = None,
     level: int = 0,
     name: str = "",
+    curves: CurvedEdges | None = None,
+    dropped_curves: int = 0,
 ) -> Mesh:
     """A :class:`Mesh` from arrays read from a file, with defaults for what the file lacks.
 
@@ -225,7 +318,9 @@ def mesh_from_arrays(
     region ``"domain"``; missing boundary edges are found from the cells and put in one patch
     ``"boundary"``. Shapes, index ranges and the mesh itself (orientation, boundary) are checked;
     ``where`` names the file in the :class:`ExportError` raised when they are wrong. The arrays
-    are taken over (made read-only), not copied.
+    are taken over (made read-only), not copied. ``curves`` are the mesh's curved edges (from
+    :func:`curves_from_arrays`); without them, ``dropped_curves`` (the count the file's metadata
+    records) > 0 warns (:class:`BlockMeshWarning`) that refining the mesh gives straight edges.
     """
     points = np.asarray(points)
     if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
@@ -282,7 +377,7 @@ def mesh_from_arrays(
     if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
     try:
-        return Mesh(
+        mesh = Mesh(
             points=_read_only(points),
             cells=_read_only(cells),
             block_id=_read_only(block_id),
@@ -294,6 +389,10 @@ def mesh_from_arrays(
             region_names=tuple(str(r) for r in region_names),
             level=int(level),
             name=str(name),
+            curves=curves,
         )
     except (BlockMeshError, TypeError, ValueError) as error:
         raise ExportError(f"{where} does not hold a valid mesh: {error}") from None
+    if curves is None and int(dropped_curves or 0) > 0:
+        _warn_dropped_curves(int(dropped_curves), where)
+    return mesh

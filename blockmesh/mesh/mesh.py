@@ -130,7 +130,9 @@ class Mesh:
         The edges that lie on curved block edges, with the curve and the stretch of its parameter
         each covers (:class:`blockmesh.curves.edges.CurvedEdges`); None when every edge is straight.
         A Domain with curves passes them to its block mesh and :func:`blockmesh.refine` carries
-        them to every level; writers ignore them (the nodes are already on the curves).
+        them to every level. The ``.npz``, ``.xdmf`` and ``.vtu`` files keep them (a mesh read
+        back refines onto its curves); the other formats keep only the nodes, which are on the
+        curves, and their readers warn that refining such a mesh gives straight edges.
     """
 
     points: np.ndarray

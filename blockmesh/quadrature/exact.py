@@ -49,6 +49,7 @@ from blockmesh.errors import (
     ResourceError,
 )
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.numerics.expr import as_polynomial
 from blockmesh.quadrature.exact_curved import curved_exact_integral
 
@@ -66,8 +67,8 @@ def exact_integral(
 
     Parameters
     ----------
-    target : Domain, Mesh or array_like (K, 2)
-        A Domain or Mesh is integrated over through its boundary edges (holes and several
+    target : Domain, Mesh, PolygonMesh or array_like (K, 2)
+        A Domain or a mesh is integrated over through its boundary edges (holes and several
         blocks included), along its curves where it has curved edges
         (:mod:`blockmesh.quadrature.exact_curved`: closed forms; a float result when there are
         arcs); a sequence of corners is one simple polygon (either orientation). Corners may be
@@ -137,6 +138,11 @@ def exact_integral(
 def _with_curves(target: object) -> Mesh | None:
     """The mesh to integrate over when ``target`` is a Domain or Mesh with curved edges."""
     mesh = target.block_mesh() if isinstance(target, Domain) else target
+    if isinstance(mesh, PolygonMesh) and mesh.curves is not None and len(mesh.curves):
+        raise ArgumentError(
+            "the exact integral over a polygon mesh with curved edges is not available; "
+            "integrate over its Domain, or its straight cells with blockmesh.integrate"
+        )
     if isinstance(mesh, Mesh) and mesh.curves is not None and len(mesh.curves):
         return mesh
     return None
@@ -183,7 +189,7 @@ def _boundary_edges(
 ) -> list[tuple[tuple[Fraction, Fraction], tuple[Fraction, Fraction]]]:
     if isinstance(target, Domain):
         target = target.block_mesh()
-    if isinstance(target, Mesh):
+    if isinstance(target, Mesh | PolygonMesh):
         if target.boundary_edges.shape[0] == 0:
             raise ArgumentError("the mesh has no boundary edges to integrate over")
         used = np.unique(target.boundary_edges)

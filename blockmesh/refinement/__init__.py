@@ -8,7 +8,10 @@
 - :mod:`~blockmesh.refinement.grouped`: groups of blocks refined on worker threads;
 - :mod:`~blockmesh.refinement.curved`, :mod:`~blockmesh.refinement.smoothing`,
   :mod:`~blockmesh.refinement.improve`: node placements other than the paper's midpoints;
-- :mod:`~blockmesh.refinement.pipeline`: :func:`refine` itself, which ties them together.
+- :mod:`~blockmesh.refinement.pipeline`: :func:`refine` itself, which ties them together;
+- :mod:`~blockmesh.refinement.local`: with ``cells=``, only the marked cells split (hanging
+  nodes, a :class:`~blockmesh.mesh.polygons.PolygonMesh`); :mod:`~blockmesh.refinement.marking`
+  chooses them by expression, region or distance to a patch.
 """
 
 from __future__ import annotations

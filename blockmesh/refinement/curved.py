@@ -73,7 +73,7 @@ def _step_ids(step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 @cache
-def _edge_midpoints(step: int, level: int) -> tuple[tuple[np.ndarray, ...], ...]:
+def edge_midpoints(step: int, level: int) -> tuple[tuple[np.ndarray, ...], ...]:
     """Per block edge ``e``: the parents with an edge on it, and where its midpoint lies.
 
     ``(j, k, position)``: parent ``j`` at ``step - 1`` has its edge ``k`` on block edge ``e``,
@@ -99,7 +99,7 @@ def _curved_parents(step: int, level: int, edges: tuple[int, ...]):
     (parent ``j`` of the M has its edge ``k`` on it, at point ``position`` along it).
     """
     parents, u_ids, w_ids = _step_ids(step)
-    midpoints = _edge_midpoints(step, level)
+    midpoints = edge_midpoints(step, level)
     has = np.unique(np.concatenate([midpoints[e][0] for e in edges]))
     on_curve = tuple(
         (np.searchsorted(has, midpoints[e][0]), midpoints[e][1], midpoints[e][2]) for e in edges
@@ -107,8 +107,20 @@ def _curved_parents(step: int, level: int, edges: tuple[int, ...]):
     return parents[has], u_ids[has], w_ids[has], on_curve
 
 
+@cache
+def _ring_parents(step: int, level: int) -> np.ndarray:
+    """The cells at ``step - 1`` with an edge on one of the five block edges (sorted ids)."""
+    return np.unique(np.concatenate([j for j, _, _ in edge_midpoints(step, level)]))
+
+
 def curved_block_levels(
-    corners: np.ndarray, along: np.ndarray, curved: np.ndarray, level: int, smooth: int = 0
+    corners: np.ndarray,
+    along: np.ndarray,
+    curved: np.ndarray,
+    level: int,
+    smooth: int = 0,
+    *,
+    ring: bool = False,
 ) -> Iterator[tuple[int, np.ndarray]]:
     """Refine pentagons with curved edges level by level; yields ``(step, xy)`` for 0..level.
 
@@ -125,6 +137,11 @@ def curved_block_levels(
     smooth : int
         Laplacian sweeps per level on the nodes inside each cell (see
         :mod:`blockmesh.refinement.smoothing`).
+    ring : bool
+        Refine only the cells along the block's edges (those with an edge on one, level by
+        level): O(2^level) cells per block instead of O(6^level). Their children's nodes, and so
+        every node on the block's edges, are set; the other entries of ``xy`` are not. Not with
+        ``smooth`` (a sweep moves every inner node).
 
     Yields
     ------
@@ -133,6 +150,8 @@ def curved_block_levels(
         The local node coordinates (the template's numbering); entries ``0..n_step-1`` are set.
         The same array is yielded at every step (copy it to keep one level).
     """
+    if ring and smooth:
+        raise ValueError("ring=True refines the cells along the edges only: no smoothing")
     template = pentagon_template(level)
     n_cells = corners.shape[0]
     xy = np.empty((n_cells, template.n_nodes, 2))
@@ -141,11 +160,16 @@ def curved_block_levels(
     yield 0, xy
     for step in range(1, level + 1):
         parents, u_ids, w_ids = _step_ids(step)
+        midpoints = edge_midpoints(step, level)
+        if ring:
+            chosen = _ring_parents(step, level)
+            parents, u_ids, w_ids = parents[chosen], u_ids[chosen], w_ids[chosen]
+            midpoints = tuple((np.searchsorted(chosen, j), k, at) for j, k, at in midpoints)
         v = xy[:, parents]  # (B, C, 5, 2)
         u = v + v[:, :, [1, 2, 3, 4, 0]]
         u *= 0.5
         has = np.zeros(u.shape[:2], dtype=bool)  # parents with an edge on a curve
-        for e, (j, k, position) in enumerate(_edge_midpoints(step, level)):
+        for e, (j, k, position) in enumerate(midpoints):
             rows = np.flatnonzero(curved[:, e])
             if rows.size:
                 u[rows[:, None], j, k] = along[rows[:, None], e, position]

@@ -50,7 +50,7 @@ MAX_RATIO = 1e6
 
 
 def geometric_fractions(ratio: float, pieces: int) -> np.ndarray:
-    """Fractions ``s_0 = 0 .. s_N = 1`` of ``pieces`` pieces, the last ``ratio`` times the first.
+    """Geometric fractions from 0 to 1: ``pieces`` pieces, the last ``ratio`` times the first.
 
     Examples
     --------

@@ -25,7 +25,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Protocol
+from typing import Any, Protocol, overload
 
 import numpy as np
 
@@ -35,9 +35,11 @@ from blockmesh.checks import choice, whole_number
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grading import graded_mesh
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
+from blockmesh.refinement.local import refine_locally
 from blockmesh.refinement.placement import (
     LaplacianSmoothing,
     PaperPlacement,
@@ -67,36 +69,101 @@ class BlockSource(Protocol):
 
 
 # --------------------------------------------------------------------------- refinement
-def _block_mesh_of(target: BlockSource | Mesh) -> Mesh:
+def _block_mesh_of(target: BlockSource | Mesh | PolygonMesh) -> Mesh:
     if isinstance(target, Mesh):
         return target
-    if callable(getattr(target, "block_mesh", None)):
+    if not isinstance(target, PolygonMesh) and callable(getattr(target, "block_mesh", None)):
         return target.block_mesh()
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
+@overload
 def refine(
     domain_or_mesh: BlockSource | Mesh,
     level: int,
     *,
+    cells: None = None,
+    scheme: str = "pentagons",
     numbering: str = "nested",
     smooth: int = 0,
     placement: str | Placement = "paper",
     max_memory: int | None = None,
     progress: ProgressCallback | None = None,
     threads: int | None = None,
-) -> Mesh:
+) -> Mesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> Mesh | PolygonMesh:
     """Refine a domain (or a mesh) ``level`` times: every cell becomes 6**level pentagons.
+
+    With ``cells=``, only the marked cells are split (local refinement,
+    :mod:`blockmesh.refinement.local`): their new edge nodes become straight vertices (hanging
+    nodes, at most one per side) of their coarse neighbours, and the result is a
+    :class:`~blockmesh.mesh.polygons.PolygonMesh`.
 
     Parameters
     ----------
-    domain_or_mesh : Domain or Mesh
+    domain_or_mesh : Domain, Mesh or PolygonMesh
         A Domain is refined from its block mesh (level 0); a Mesh from its own cells, so
         ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)`` (for a domain without a grading:
         the graded edges of a Domain's ``grading`` are spaced geometrically at the level made,
-        :mod:`blockmesh.refinement.grading`).
+        :mod:`blockmesh.refinement.grading`). A PolygonMesh is refined by the local rule (every
+        cell marked, unless ``cells`` says otherwise).
     level : int
         How many times each cell is split (>= 0). The result's ``level`` is the input's plus this.
+        With ``cells``, the rounds of local refinement (default 1).
+    cells : boolean mask, cell ids or callable, optional
+        The cells to split: a mask over the cells, their ids, or ``cells(mesh)`` returning
+        either (asked again on every round's mesh; ids and masks mark the children of the
+        marked cells in later rounds). A marking of no cell is an error.
+    scheme : {"pentagons", "quads"}
+        With ``cells``: how a marked cell is split (:data:`blockmesh.refinement.local.SCHEMES`):
+        the paper's six pentagons (its general-polygon form for other cells), or
+        quadrilaterals through the centre.
     numbering : {"nested", "rcm"}
         ``"nested"`` (default) is the paper's numbering: every node id of the previous level is
         kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
@@ -132,7 +199,26 @@ def refine(
     >>> mesh = blockmesh.refine(blockmesh.load_domain("sp"), 1)
     >>> mesh.cells[0].tolist(), mesh.points[10].tolist()
     ([0, 5, 10, 14, 9], [0.0, -0.6])
+    >>> local = blockmesh.refine(mesh, cells=[0])
+    >>> local.n_cells, sorted(set(local.cell_sizes().tolist()))
+    (11, [5, 6])
     """
+    if cells is not None or isinstance(domain_or_mesh, PolygonMesh):
+        if not (isinstance(placement, str) and placement == "paper"):
+            raise ArgumentError(
+                f"placement={placement!r} applies to uniform refinement; local refinement "
+                "(cells=, or a PolygonMesh) places the nodes by the paper's rule"
+            )
+        return _refine_locally(
+            domain_or_mesh, level, cells, numbering, smooth, max_memory, progress, threads, scheme
+        )
+    if scheme != "pentagons":
+        raise ArgumentError(
+            f"scheme={scheme!r} applies to local refinement (cells=); uniform refinement is the "
+            "paper's"
+        )
+    if level is None:
+        raise ArgumentError("refine() needs a level (how many times to split every cell)")
     level = whole_number(level, "level")
     choice(numbering, NUMBERINGS, "numbering")
     smooth = whole_number(smooth, "smooth")
@@ -169,6 +255,40 @@ def refine(
     if numbering == "rcm":
         mesh = mesh.with_rcm_numbering()
     return mesh
+
+
+def _refine_locally(
+    target: BlockSource | Mesh | PolygonMesh,
+    level: int | None,
+    cells: Any,
+    numbering: str,
+    smooth: int,
+    max_memory: int | None,
+    progress: ProgressCallback | None,
+    threads: int | None,
+    scheme: str = "pentagons",
+) -> PolygonMesh:
+    """:func:`refine` with ``cells=``, or of a PolygonMesh: the local rule, round by round."""
+    rounds = 1 if level is None and cells is not None else level
+    if rounds is None:
+        raise ArgumentError("refine() of a PolygonMesh needs a level or cells=")
+    rounds = whole_number(rounds, "level")
+    choice(numbering, ("nested",), "numbering (local refinement keeps the nested numbering)")
+    if whole_number(smooth, "smooth"):
+        raise ArgumentError(
+            "smooth= applies to uniform refinement; local refinement keeps the paper's rule"
+        )
+    if threads is not None:
+        whole_number(threads, "threads", minimum=1)
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    mesh = target if isinstance(target, PolygonMesh) else _block_mesh_of(target)
+    if rounds == 0:
+        return as_polygon_mesh(mesh)
+    marking = cells if cells is not None else np.ones(mesh.n_cells, dtype=bool)
+    return refine_locally(
+        mesh, marking, rounds, max_memory=max_memory, progress=progress, scheme=scheme
+    )
 
 
 def _build_placed(
@@ -265,7 +385,7 @@ def _assemble(
         "points": refined.points,
         "cells": refined.cells,
         "block_id": refined.block_id,
-        "parent": refined.parent,
+        "parent": refined.parent if steps else base.parent,  # no step: the same cells
         "boundary_edges": boundary_edges,
         "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
         "region": refined.region,

@@ -39,15 +39,20 @@ from blockmesh.refinement.template import TEMPLATE_CACHE_BYTES, node_count, temp
 
 __all__ = [
     "DRAW_LIMIT",
+    "LU_BYTES_PER_NONZERO",
+    "SOLVE_COSTS",
     "STAGE_COSTS",
     "MemoryPrediction",
     "MeshSize",
     "StageCost",
     "check_fits",
     "largest_fitting_level",
+    "lu_nonzeros",
     "mesh_command_predictor",
     "predict_mesh_command",
     "predict_size",
+    "predict_solve_command",
+    "solve_command_predictor",
 ]
 
 #: Meshes with more cells than this are drawn as a picture of their cell density with the block
@@ -132,14 +137,94 @@ STAGE_COSTS: dict[tuple[str | None, ...], StageCost] = {
     ("export", "xdmf", "zlib"): StageCost(58, 22_000_000, _IO),
     ("export", "npz", None): StageCost(10, 2_000_000, _IO),
     ("export", "mat", None): StageCost(345, 2_000_000, (*_IO, ("scipy.io", 20_000_000))),
-    ("export", "vtu", "none"): StageCost(290, 2_000_000, _IO),
-    ("export", "vtu", "zlib"): StageCost(250, 2_000_000, _IO),
-    ("export", "vtu", "lzma"): StageCost(225, 2_000_000, _IO),
+    # The streaming VTU writer holds pieces of a few MB and, compressing, a few blocks per
+    # thread (measured 12-18 MB, 1-2 MB and 13-16 MB at levels 6-8 of sp on two threads; the
+    # constants leave room for MAX_THREADS threads).
+    ("export", "vtu", "none"): StageCost(0, 20_000_000, _IO),
+    ("export", "vtu", "zlib"): StageCost(0, 40_000_000, _IO),
+    ("export", "vtu", "lzma"): StageCost(0, 120_000_000, _IO),
     ("export", "msh", "tri3"): StageCost(385, 2_000_000, _IO),
     ("export", "msh", "tri5"): StageCost(620, 2_000_000, _IO),
     ("export", "msh", "quad5"): StageCost(810, 2_000_000, _IO),
     ("export", "openfoam", None): StageCost(435, 2_000_000, _IO),
 }
+
+#: Extra resident bytes of ``blockmesh solve`` before its linear solve, per cell of the mesh: the
+#: projections, cell matrices, loads and the assembled system held when the factorisation
+#: starts (measured by ``benchmarks/bench_solve_memory.py`` on square, l-shape and lake-island,
+#: levels 3-5: 1,400-2,200 bytes per cell for poisson, 4,700-7,000 for elasticity, the larger
+#: figures on the smaller meshes).
+SOLVE_COSTS: dict[str, StageCost] = {
+    "poisson": StageCost(1_800, 10_000_000, (("blockmesh.vem", 40_000_000),)),
+    "elasticity": StageCost(5_000, 10_000_000, (("blockmesh.vem", 40_000_000),)),
+}
+#: Resident bytes per non-zero of SuperLU's factors L + U, values, indices and the work space of
+#: the factorisation together (measured 20-31).
+LU_BYTES_PER_NONZERO = 25
+#: The multigrid hierarchy and the conjugate-gradient vectors, per cell (``solver="amg"``).
+AMG_BYTES_PER_CELL = 1_500
+
+
+def lu_nonzeros(nodes: int, components: int = 1) -> int:
+    """Predicted non-zeros of SuperLU's L + U for a pentagon mesh of ``nodes`` nodes.
+
+    With the minimum-degree ordering the solver uses, the fill of these planar meshes grows as
+    ``n log n`` (as nested dissection's): measured ``nnz(L + U) / n = 39 .. 51`` for 7,700 to
+    360,000 nodes, fitted by ``14 + 2.1 log2 n`` within 6 %. Two unknowns per node (elasticity)
+    give ``components**2`` times as many (measured 3.7-4.0). Integer arithmetic: absurd sizes do
+    not overflow.
+
+    Examples
+    --------
+    The square at level 5 (93,153 unknowns) gave 4,641,904 non-zeros:
+
+    >>> round(lu_nonzeros(93153) / 4_641_904, 2)
+    1.0
+    """
+    nodes = max(int(nodes), 1)
+    return components**2 * nodes * (140 + 21 * nodes.bit_length()) // 10
+
+
+def predict_solve_command(
+    size,
+    *,
+    n_blocks: int,
+    steps: int | None = None,
+    equation: str = "poisson",
+    solver: str = "direct",
+    smooth: int = 0,
+    plot: bool = False,
+    baseline: int | None = None,
+) -> MemoryPrediction:
+    """Peak resident memory of ``blockmesh solve`` at each stage, for a mesh of ``size``.
+
+    The stages: the refinement (as :func:`predict_mesh_command`), the assembly
+    (:data:`SOLVE_COSTS`), the linear solve (the direct solver's factors: :func:`lu_nonzeros`
+    times :data:`LU_BYTES_PER_NONZERO`; multigrid: :data:`AMG_BYTES_PER_CELL`) and the picture.
+
+    Examples
+    --------
+    >>> from blockmesh.refinement import predict_size
+    >>> p = predict_solve_command(predict_size(48, 63, 80, 16, 6, 6), n_blocks=48, baseline=0)
+    >>> [name for name, _ in p.stages], p.peak_stage
+    (['refinement', 'assembly (poisson)', 'factorisation (direct solver)'], ...)
+    """
+    mesh_only = predict_mesh_command(
+        size, n_blocks=n_blocks, steps=steps, smooth=smooth, baseline=baseline
+    )
+    base = mesh_only.baseline
+    held = base + size.output_bytes + SOLVE_COSTS[equation].bytes(size.cells)
+    stages = [mesh_only.stages[0], (f"assembly ({equation})", held)]
+    components = 2 if equation == "elasticity" else 1
+    if solver == "direct":
+        lu = LU_BYTES_PER_NONZERO * lu_nonzeros(size.nodes, components)
+        stages.append(("factorisation (direct solver)", held + lu))
+    else:
+        stages.append((f"{solver} solve", held + AMG_BYTES_PER_CELL * size.cells))
+    if plot:
+        stages.append(("plot", held + STAGE_COSTS["plot", "polygons"].bytes(size.cells)))
+    return MemoryPrediction(size.level, base, tuple(stages))
+
 
 #: Template bytes per cell of its level (cells, corners of every level, sources).
 TEMPLATE_BYTES_PER_CELL = 62
@@ -258,7 +343,7 @@ def predict_mesh_command(
         option = split if fmt == "msh" else compression
         key = ("export", fmt, option)
         if key not in STAGE_COSTS:
-            key = ("export", fmt, {"vtu": "zlib", "xdmf": "none"}.get(fmt))
+            key = ("export", fmt, {"vtu": "none", "xdmf": "none"}.get(fmt))
         cost = STAGE_COSTS.get(key, StageCost(0))
         stages.append(
             (f"export ({fmt}{', ' + option if option else ''})", base + mesh + cost.bytes(cells))
@@ -316,6 +401,27 @@ def check_fits(
     )
 
 
+def _sizes(target) -> Callable[[int], Any]:
+    """``size(steps)``: the :class:`~blockmesh.refinement.MeshSize` of ``target`` refined."""
+    if isinstance(target, Mesh):
+        n_boundary = int(target.boundary_edges.shape[0])
+        counts = (target.n_cells, target.n_points, (5 * target.n_cells - n_boundary) // 2)
+        base_level = target.level
+    else:
+        n_boundary = int(target.boundary_edges.shape[0])
+        counts = (target.n_blocks, target.n_vertices, target.n_shared_edges)
+        base_level = 0
+
+    def size(steps: int) -> Any:
+        return predict_size(*counts, n_boundary, steps, base_level + steps)
+
+    return size
+
+
+def _cells_of(target) -> int:
+    return int(target.n_cells if isinstance(target, Mesh) else target.n_blocks)
+
+
 def mesh_command_predictor(target, **stages: Any) -> Callable[[int], MemoryPrediction]:
     """``predict(level)`` for refining ``target`` (a Domain or Mesh) ``level`` times.
 
@@ -329,20 +435,33 @@ def mesh_command_predictor(target, **stages: Any) -> Callable[[int], MemoryPredi
     >>> [stage for stage, _ in predict(7).stages]
     ['refinement', 'report', 'plot']
     """
-    if isinstance(target, Mesh):
-        n_boundary = int(target.boundary_edges.shape[0])
-        counts = (target.n_cells, target.n_points, (5 * target.n_cells - n_boundary) // 2)
-        base_level = target.level
-    else:
-        n_boundary = int(target.boundary_edges.shape[0])
-        counts = (target.n_blocks, target.n_vertices, target.n_shared_edges)
-        base_level = 0
-    baseline = process_rss()
+    size, n_blocks, baseline = _sizes(target), _cells_of(target), process_rss()
 
     def predict(level: int) -> MemoryPrediction:
-        size = predict_size(*counts, n_boundary, level, base_level + level)
         return predict_mesh_command(
-            size, n_blocks=counts[0], steps=level, baseline=baseline, **stages
+            size(level), n_blocks=n_blocks, steps=level, baseline=baseline, **stages
+        )
+
+    return predict
+
+
+def solve_command_predictor(target, **options: Any) -> Callable[[int], MemoryPrediction]:
+    """``predict(level)`` for solving on ``target`` (a Domain or Mesh) refined ``level`` times.
+
+    ``options`` are those of :func:`predict_solve_command` (equation, solver, smooth, plot).
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> predict = solve_command_predictor(blockmesh.load_domain("square"), equation="elasticity")
+    >>> predict(6).peak_stage, predict(6).peak_bytes > predict(5).peak_bytes
+    ('factorisation (direct solver)', True)
+    """
+    size, n_blocks, baseline = _sizes(target), _cells_of(target), process_rss()
+
+    def predict(level: int) -> MemoryPrediction:
+        return predict_solve_command(
+            size(level), n_blocks=n_blocks, steps=level, baseline=baseline, **options
         )
 
     return predict

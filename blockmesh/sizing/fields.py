@@ -4,17 +4,17 @@ A size field answers one question, "how large may a cell be here?", for many poi
 ``field(xy)`` takes an ``(N, 2)`` array of points and returns ``N`` sizes, a size being a cell's
 diameter (the largest distance between two of its corners). The kinds follow gmsh's fields:
 
-================== =========================================================================
-:class:`Constant`  one size everywhere (gmsh's characteristic length)
-:class:`Expression` a safe expression in ``x`` and ``y`` (gmsh's MathEval)
-:class:`Callback`  a Python function ``f(x, y) -> sizes`` on arrays (gmsh's callback)
-:class:`Near`      small near points or boundary pieces, growing with the distance from them:
-                   by a rate per cell, or between two distances (gmsh's Distance + Threshold)
-:class:`InRegion`  a size inside some polygons, none outside (gmsh's Restrict / per-surface)
-:class:`Minimum`   the smallest of several fields (gmsh's Min)
-:class:`Graded`    a field whose growth is limited, so neighbouring cells' sizes stay within a
-                   ratio even where the field jumps (see :mod:`blockmesh.sizing.gradation`)
-================== =========================================================================
+==================== =========================================================================
+:class:`Constant`    one size everywhere (gmsh's characteristic length)
+:class:`Expression`  a safe expression in ``x`` and ``y`` (gmsh's MathEval)
+:class:`Callback`    a Python function ``f(x, y) -> sizes`` on arrays (gmsh's callback)
+:class:`Near`        small near points or boundary pieces, growing with the distance from them:
+                     by a rate per cell, or between two distances (gmsh's Distance + Threshold)
+:class:`InRegion`    a size inside some polygons, none outside (gmsh's Restrict / per-surface)
+:class:`Minimum`     the smallest of several fields (gmsh's Min)
+:class:`Graded`      a field whose growth is limited, so neighbouring cells' sizes stay within a
+                     ratio even where the field jumps (see :mod:`blockmesh.sizing.gradation`)
+==================== =========================================================================
 
 A field may answer ``inf`` where it asks nothing (outside its region, say); the field a mesh is
 made for must be finite and positive everywhere in the domain, and :func:`checked_sizes` says

@@ -1,7 +1,7 @@
 """Gradation: a size field made to grow by at most a given ratio per cell, even where it jumps.
 
 A field that jumps (a small size inside a region, a large one outside) would ask for a tiny cell
-beside a huge one. The graded field is the largest field below it whose growth is limited:
+beside a huge one. The graded field is the largest field below it whose growth is limited::
 
     h_g(x) = min over y of ( h(y) + s |x - y| ),    s = rate - 1,
 

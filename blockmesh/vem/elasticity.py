@@ -36,8 +36,14 @@ import numpy as np
 
 from blockmesh.checks import choice, renamed_keywords
 from blockmesh.errors import ArgumentError, SolverError
-from blockmesh.vem.assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from blockmesh.vem.boundary import boundary_conditions
+from blockmesh.vem.assembly import (
+    SolveInfo,
+    assemble_matrix,
+    assemble_vector,
+    ordering_for,
+    solve_system,
+)
+from blockmesh.vem.boundary import ProblemData, boundary_conditions
 from blockmesh.vem.fields import Field, vector_field
 from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
@@ -109,6 +115,7 @@ class ElasticitySolution:
     material: np.ndarray
     _projections: tuple[Projections, ...]
     _order: int
+    _data: ProblemData | None = None
 
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
@@ -201,6 +208,9 @@ def solve_elasticity(
         For a patch given both conditions; displacement conditions that leave a rigid motion
         free (without ``constraint="rigid"``); unbalanced loads on a free rigid motion; a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
@@ -245,6 +255,7 @@ def solve_elasticity(
         tol=tol,
         constraints=constraints,
         near_nullspace=rigid,
+        ordering=ordering_for(pm.cell_level),
     )
     strain = np.empty((pm.n_cells, 3))
     for group, d, strain_map in zip(pm.groups, dofs, strains, strict=True):
@@ -265,6 +276,7 @@ def solve_elasticity(
         material,
         tuple(projs),
         order,
+        ProblemData(tuple(force), bc, recipe, scale),
     )
 
 

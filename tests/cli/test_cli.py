@@ -50,7 +50,7 @@ def test_check_reports_located_errors(capsys, tmp_path):
     assert "Traceback" not in err
     code, out, _ = run(capsys, "check", str(bad), "--json")
     report = json.loads(out)
-    assert code == 1 and report["valid"] is False and report["error"] == "DomainError"
+    assert code == 1 and report["valid"] is False and report["error"]["type"] == "DomainError"
     assert "cross at (1, 1)" in report["problems"][0]
 
 

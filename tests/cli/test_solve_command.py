@@ -139,3 +139,83 @@ def test_elasticity_on_a_curved_catalogue_domain(capsys, tmp_path):
     assert back.point_data["displacement"].shape == (report["nodes"], 3)
     assert 2.2 < stress[:, 0].max() < 3.5  # σ_xx peaks at the top of the hole (3.14 on level 3)
     assert np.abs(back.point_data["displacement"][back.points[:, 0] < 1e-12, 0]).max() < 1e-14
+
+
+# ----------------------------------------------------------------- mesh files (issue 22)
+def test_solve_takes_a_mesh_file_at_its_own_level(capsys, tmp_path):
+    """`solve --help` said DOMAIN may be a mesh file; the command refused one."""
+    import blockmesh
+
+    path = blockmesh.write(blockmesh.load_domain("square").mesh(2), tmp_path / "sq.npz")
+    direct = json.loads(run_cli(capsys, "solve", "square", "--level", "3", "--source", SOURCE,
+                                *WALLS, "--exact", EXACT, "--json")[1])  # fmt: skip
+    for extra, level in (([], 2), (["--level", "1"], 3)):
+        code, stdout, stderr = run_cli(
+            capsys, "solve", str(path), "--source", SOURCE, *WALLS, "--exact", EXACT, "--json",
+            *extra,
+        )  # fmt: skip
+        assert code == 0, stderr
+        report = json.loads(stdout)
+        assert report["level"] == level and report["cells"] == 8 * 6**level
+    assert report["l2_error"] == pytest.approx(direct["l2_error"], rel=1e-12)
+
+
+def test_solve_help_and_errors_name_every_domain_kind(capsys):
+    with pytest.raises(SystemExit):
+        run_cli(capsys, "solve", "--help")
+    text = " ".join(capsys.readouterr().out.split())
+    assert ".wkt" in text and ".geojson" in text and "mesh file" in text
+    assert "refined further by --level" in text
+
+
+# -------------------------------------------------------------- memory (issue 22, item 4)
+def test_solve_refuses_early_what_the_factorisation_cannot_hold(capsys):
+    """Out of memory in the factorisation was reported as "the system matrix is singular"."""
+    import blockmesh
+    from blockmesh.refinement.sizes import solve_command_predictor
+
+    predict = solve_command_predictor(blockmesh.load_domain("square"))
+    between = (predict(4).peak_bytes + predict(5).peak_bytes) // 2  # ~100 MB from either
+    code, stdout, stderr = run_cli(capsys, "solve", "square", "--level", "6", "--source", "1",
+                                   *WALLS, "--max-memory", str(between))  # fmt: skip
+    assert code == 2 and stdout == ""
+    assert "largest level that fits is 4" in stderr and "factorisation" in stderr
+    assert "--max-memory" in stderr and "singular" not in stderr
+
+
+def test_solve_reports_the_predicted_peak(capsys):
+    code, stdout, stderr = run_cli(capsys, "solve", "square", "--level", "2", "--source", "1",
+                                   *WALLS, "--json")  # fmt: skip
+    report = json.loads(stdout)
+    assert code == 0 and report["predicted_peak_bytes"] > 0
+
+
+@pytest.mark.parametrize(
+    "failure",
+    [MemoryError(), RuntimeError("Malloc fails for dgstrf"), RuntimeError("not enough memory")],
+)
+def test_running_out_of_memory_in_the_factorisation_says_so(capsys, monkeypatch, failure):
+    from scipy.sparse import linalg
+
+    def no_memory(*_args, **_kwargs):
+        raise failure
+
+    monkeypatch.setattr(linalg, "splu", no_memory)
+    code, stdout, stderr = run_cli(capsys, "solve", "square", "--level", "1", "--source", "1",
+                                   *WALLS)  # fmt: skip
+    assert code == 2 and "ran out of memory" in stderr and "singular" not in stderr
+
+
+def test_a_singular_factorisation_is_still_called_singular(monkeypatch):
+    from scipy.sparse import linalg
+
+    import blockmesh
+    from blockmesh.errors import SolverError
+    from blockmesh.vem import solve_poisson
+
+    def singular(*_args, **_kwargs):
+        raise RuntimeError("Factor is exactly singular")
+
+    monkeypatch.setattr(linalg, "splu", singular)
+    with pytest.raises(SolverError, match="singular"):
+        solve_poisson(blockmesh.load_domain("square").mesh(1), 1, dirichlet={"left": 0})

@@ -11,7 +11,6 @@ marked ``slow``, those that need an optional extra skip when it is absent.
 from __future__ import annotations
 
 import ast
-import importlib.util
 import itertools
 import re
 import tempfile
@@ -22,6 +21,7 @@ import pytest
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from helpers_docs import missing
 
 GALLERY = Path(__file__).resolve().parents[2] / "docs" / "gallery"
 SCRIPTS = sorted(GALLERY.glob("plot_*.py"))
@@ -30,7 +30,7 @@ SCRIPTS = sorted(GALLERY.glob("plot_*.py"))
 SLOW = {"plot_holes_and_arcs.py": "decomposes a polygon with an arc and a circle into 549 blocks"}
 
 #: Scripts that need an optional extra: the module, and the extra that installs it.
-NEEDS = {"plot_partitioned_mesh.py": ("distributed", "distributed")}
+NEEDS = {"plot_partitioned_mesh.py": ("dask.distributed", "distributed")}
 
 
 def _cells(source: str) -> list[str]:
@@ -53,7 +53,7 @@ def test_gallery_script_runs_and_draws(
 ) -> None:
     if script.name in NEEDS:
         module, extra = NEEDS[script.name]
-        if importlib.util.find_spec(module) is None:
+        if missing(module):
             pytest.skip(f"needs {module} (pip install -e '.[{extra}]')")
     work, temporary = tmp_path / "work", tmp_path / "tmp"
     work.mkdir()

@@ -244,7 +244,7 @@ def test_failed_commit_keeps_old_output(
 def _breaking_points() -> list[tuple[str, str, str]]:
     """(format, object to break, attribute) per file format: a failure in the middle."""
     return [
-        ("vtu", "blockmesh.io.vtu.format", "_insert_field_data"),
+        ("vtu", "blockmesh.io.vtu.writer", "_write_raw"),
         ("vtk", "blockmesh.io.vtk.format", "_field_block"),
         ("xdmf", "blockmesh.io.xdmf.format", "_xdmf_tree"),
         ("msh", "blockmesh.io.msh.writer", "_write_blocks"),

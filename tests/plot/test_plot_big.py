@@ -39,12 +39,14 @@ def test_density_counts_every_cell_and_its_area(catalogue):
 def test_big_mesh_is_drawn_as_a_density_picture(catalogue, tmp_path, monkeypatch):
     monkeypatch.setattr(plot, "DRAW_LIMIT", 1000)
     drawn = []
-    monkeypatch.setattr(plot, "_plot_density", lambda mesh, path: drawn.append(path) or path)
+    real = plot._density_figure
+    monkeypatch.setattr(plot, "_density_figure", lambda mesh: drawn.append(mesh) or real(mesh))
     small = catalogue["joined-8"].mesh(1)
     plot.plot_mesh(small, tmp_path / "small.png")
     assert drawn == [] and (tmp_path / "small.png").stat().st_size > 0
-    plot.plot_mesh(catalogue["joined-8"].mesh(3), tmp_path / "big.png")
-    assert drawn == [tmp_path / "big.png"]
+    big = catalogue["joined-8"].mesh(3)
+    plot.plot_mesh(big, tmp_path / "big.png")
+    assert drawn == [big] and (tmp_path / "big.png").stat().st_size > 0
 
 
 def test_density_picture_is_written(catalogue, tmp_path, monkeypatch):

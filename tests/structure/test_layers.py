@@ -56,6 +56,9 @@ DEFERRED: dict[tuple[str, str], str] = {
     ("blockmesh.commands.solve", "blockmesh.vem.plot"): (
         "start-up: matplotlib (about 0.3 s) is imported only when a picture is asked for"
     ),
+    ("blockmesh.commands.solve_adaptive", "blockmesh.vem.plot"): (
+        "start-up: matplotlib (about 0.3 s) is imported only when a picture is asked for"
+    ),
     ("blockmesh.domain.domain", "blockmesh.domain.blockgraph"): (
         "start-up: networkx (about 0.2 s) is imported only when the block graph is asked for"
     ),

@@ -13,6 +13,12 @@ Variables (every index and id 1-based, as MATLAB counts):
 ``Parent``        M x 1, the cell's parent at the previous level (0 at level 0)
 ``PatchNames``    1 x P cell array of char; ``RegionNames`` likewise
 ``Level``         the refinement level; ``Name`` the mesh name
+``CurvedEdges``   (a mesh with curved edges only) how many: the file keeps the nodes on the
+                  curves but not the curves, and :func:`read_mat` warns that refining the mesh
+                  read gives straight edges
+``CellLevel``     M x 1, per cell its refinement level (polygon meshes only)
+``Kind``          ``'polygons'`` for a polygon mesh (then ``Element{k}`` has as many ids as cell
+                  k has vertices, hanging nodes included)
 ================= ============================================================================
 
 Struct field names are the patch names made valid MATLAB identifiers (other characters become
@@ -53,7 +59,9 @@ from blockmesh.errors import ExportError
 from blockmesh.io.common import Format, mesh_from_arrays
 from blockmesh.io.mat.check import check_mat
 from blockmesh.io.names import MATLAB_NAME
+from blockmesh.io.polygons import POLYGONS, polygon_mesh_from_arrays
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["FORMAT", "matlab_name", "read_mat", "write_mat"]
 
@@ -103,7 +111,34 @@ def _cell_array_bytes(name: str, rows: np.ndarray) -> bytes:
     return np.array([_MI_MATRIX, size], dtype="<u4").tobytes() + header + padded + body
 
 
-def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
+def _ragged_cell_array_bytes(name: str, offsets: np.ndarray, nodes: np.ndarray) -> bytes:
+    """A MAT v5 M x 1 cell array of 1 x k_c double rows (k_c varying), built with numpy. O(S)."""
+    sizes = np.diff(offsets)
+    m = sizes.size
+    record = 56 + 8 * sizes  # the head (14 uint32) and k doubles: always a multiple of 8
+    starts = np.concatenate([[0], np.cumsum(record)])
+    body = np.zeros(int(starts[-1]), dtype=np.uint8)
+    for k in np.unique(sizes).tolist():
+        mine = np.flatnonzero(sizes == k)
+        rows = np.empty(mine.size, dtype=_record(k))
+        rows["head"] = _record_head(k)
+        rows["data"] = nodes[offsets[mine][:, None] + np.arange(k)] + 1.0
+        flat = np.frombuffer(rows.tobytes(), dtype=np.uint8).reshape(mine.size, -1)
+        body[starts[mine][:, None] + np.arange(flat.shape[1])] = flat
+    raw = name.encode("ascii")
+    padded = raw + b"\0" * (-len(raw) % 8)
+    header = np.array(
+        [_MI_UINT32, 8, _MX_CELL, 0, _MI_INT32, 8, m, 1, _MI_INT8, len(raw)], dtype="<u4"
+    ).tobytes()
+    size = len(header) + len(padded) + body.size
+    if size >= 2**32:
+        raise ExportError(
+            f"the mesh is too large for a MATLAB v5 file ({m} cells); use --format xdmf or npz"
+        )
+    return np.array([_MI_MATRIX, size], dtype="<u4").tobytes() + header + padded + body.tobytes()
+
+
+def write_mat(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none") -> Path:
     """Write ``mesh`` to ``path`` (atomically) as a MATLAB v5 file; returns the path. O(N + M)."""
     import scipy.io
 
@@ -125,7 +160,14 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
         "Level": float(mesh.level),
         "Name": mesh.name,
     }
-    element = _cell_array_bytes("Element", (mesh.cells + 1).astype(np.float64))
+    if mesh.curves:
+        variables["CurvedEdges"] = float(len(mesh.curves))
+    if isinstance(mesh, PolygonMesh):
+        variables["CellLevel"] = mesh.cell_level.astype(np.float64).reshape(-1, 1)
+        variables["Kind"] = POLYGONS
+        element = _ragged_cell_array_bytes("Element", mesh.offsets, mesh.nodes)
+    else:
+        element = _cell_array_bytes("Element", (mesh.cells + 1).astype(np.float64))
     if compression == "zlib":
         packed = zlib.compress(element, 1)
         element = np.array([_MI_COMPRESSED, len(packed)], dtype="<u4").tobytes() + packed
@@ -139,7 +181,8 @@ def write_mat(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
 
 #: The variables :func:`write_mat` writes.
 _VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "Region", "Parent",
-              "PatchNames", "RegionNames", "Level", "Name")  # fmt: skip
+              "PatchNames", "RegionNames", "Level", "Name", "CurvedEdges", "CellLevel",
+              "Kind")  # fmt: skip
 
 
 def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> Iterator[bytes]:
@@ -243,6 +286,22 @@ def _strings(value: np.ndarray) -> list[str]:
     return [str(np.asarray(v).ravel()[0]) if np.asarray(v).size else "" for v in value.ravel()]
 
 
+def _rows(element: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
+    """0-based compressed rows (offsets, nodes) from ``Element`` (a cell array of any rows)."""
+    if element.dtype != object:
+        rows = np.asarray(element, dtype=np.float64)
+        rows = rows.reshape(rows.shape[0], -1) if rows.ndim else rows.reshape(0, 0)
+        parts = list(rows)
+    else:
+        parts = [np.asarray(v, dtype=np.float64).ravel() for v in element.ravel()]
+    sizes = np.array([p.size for p in parts], dtype=np.int64)
+    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    flat = np.concatenate(parts) if parts else np.empty(0)
+    if not np.all(np.isfinite(flat)) or np.any(flat != np.floor(flat)):
+        raise ExportError(f"{where}: Element holds node ids that are not whole numbers")
+    return offsets, flat.astype(np.int64) - 1
+
+
 def _cells(element: np.ndarray, where: str) -> np.ndarray:
     """0-based (M, 5) node ids from ``Element`` as scipy read it (a cell array or a matrix)."""
     if element.dtype == object:
@@ -264,11 +323,12 @@ def _cells(element: np.ndarray, where: str) -> np.ndarray:
     return cells
 
 
-def read_mat(path: Path) -> Mesh:
+def read_mat(path: Path) -> Mesh | PolygonMesh:
     """Read a mesh written by :func:`write_mat` (via :func:`scipy.io.loadmat`).
 
-    Files from PolyMesher (``Node`` and ``Element`` only) are read too when every element is a
-    pentagon; the boundary is then found from the cells.
+    Files from PolyMesher (``Node`` and ``Element`` only) are read too, as a Mesh when every
+    element is a pentagon and a PolygonMesh otherwise; the boundary is then found from the
+    cells.
     """
     import scipy.io
 
@@ -284,7 +344,18 @@ def read_mat(path: Path) -> Mesh:
         raise ExportError(f"cannot read {where} as a MATLAB file: {exc}") from None
     if "Node" not in data or (fast is None and "Element" not in data):
         raise ExportError(f"{where} has no Node and Element variables (PolyMesher layout)")
-    cells = _cells(data.pop("Element"), where) if fast is None else fast
+    polygons = "Kind" in data and _strings(data["Kind"]) == [POLYGONS]
+    offsets = nodes = np.zeros(0, np.int64)
+    cells = np.zeros((0, 5), np.int64)
+    if fast is None:
+        offsets, nodes = _rows(data.pop("Element"), where)
+        polygons = polygons or bool(np.any(np.diff(offsets) != 5))
+        if not polygons:
+            cells = nodes.reshape(-1, 5)
+    else:
+        cells = fast
+        if polygons:
+            offsets, nodes = np.arange(fast.shape[0] + 1) * 5, fast.ravel()
     del fast
 
     def column(name: str, shift: int) -> np.ndarray | None:
@@ -305,6 +376,23 @@ def read_mat(path: Path) -> Mesh:
         patch = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
     level = int(np.asarray(data["Level"]).ravel()[0]) if "Level" in data else 0
     name = _strings(data["Name"])[0] if "Name" in data and data["Name"].size else ""
+    if polygons:
+        return polygon_mesh_from_arrays(
+            np.asarray(data["Node"], dtype=np.float64),
+            offsets,
+            nodes,
+            where=where,
+            block_id=column("BlockId", 1),
+            parent=column("Parent", 1),
+            region=column("Region", 1),
+            region_names=region_names,
+            boundary_edges=edges,
+            boundary_patch=patch,
+            patch_names=patch_names,
+            cell_level=column("CellLevel", 0),
+            level=level,
+            name=name,
+        )
     return mesh_from_arrays(
         np.asarray(data["Node"], dtype=np.float64),
         cells,
@@ -318,6 +406,9 @@ def read_mat(path: Path) -> Mesh:
         patch_names=patch_names,
         level=level,
         name=name,
+        dropped_curves=int(np.asarray(data["CurvedEdges"]).ravel()[0])
+        if "CurvedEdges" in data
+        else 0,
     )
 
 

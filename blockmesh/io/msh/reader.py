@@ -28,9 +28,11 @@ import numpy as np
 from blockmesh.errors import ExportError
 from blockmesh.io.common import decode_metadata, mesh_from_arrays
 from blockmesh.io.msh.writer import ELEMENT_NODES
-from blockmesh.io.pentagons import join_lines, merge_elements
+from blockmesh.io.pentagons import join_lines, merge_elements, merge_polygons
+from blockmesh.io.polygons import is_polygon_file, polygon_mesh_from_arrays
 from blockmesh.io.text import TextReader
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["read_msh"]
 
@@ -325,7 +327,7 @@ def _values_for(
     return values[order][pos]
 
 
-def read_msh(path: Path) -> Mesh:
+def read_msh(path: Path) -> Mesh | PolygonMesh:
     """Read a Gmsh 4.1 ASCII file written by :func:`~blockmesh.io.msh.writer.write_msh`.
 
     Needs the ``"pentagon"`` element data (files of blockmesh 0.1 name it ``"parent"``); other
@@ -334,8 +336,60 @@ def read_msh(path: Path) -> Mesh:
     """
     path = Path(path)
     where = str(path)
-    arrays = _mesh_arrays(_parse(path), where)  # the parsed file is freed before the Mesh
+    parsed = _parse(path)
+    if is_polygon_file(parsed.meta):
+        return polygon_mesh_from_arrays(where=where, **_polygon_arrays(parsed, where))
+    arrays = _mesh_arrays(parsed, where)  # the parsed file is freed before the Mesh
+    del parsed
     return mesh_from_arrays(where=where, **arrays)
+
+
+def _polygon_arrays(f: _File, where: str) -> dict[str, Any]:
+    """The arguments of :func:`polygon_mesh_from_arrays` from a parsed file of a PolygonMesh."""
+    meta = f.meta
+    assert f.coords is not None and f.to_index is not None
+    tags, nodes = f.surface.joined(3)
+    if "pentagon" not in f.views:
+        raise ExportError(f'{where} has no "pentagon" element data naming each cell')
+    cell = np.reshape(_values_for(tags, f.views.pop("pentagon"), "pentagon", where), -1)
+    views = {
+        name: np.reshape(_values_for(tags, f.views.pop(name), name, where), -1)
+        for name in ("parent", "cell_level")
+        if name in f.views
+    }
+    order = None
+    if tags.size > 1 and np.any(tags[1:] <= tags[:-1]):
+        order = np.argsort(tags, kind="stable")
+        nodes, cell = nodes[order], cell[order]
+    conn = f.to_index(nodes, "elements", where)
+    n_points = meta.get("n_points")
+    if not (isinstance(n_points, int) and 0 < n_points <= f.coords.shape[0]):
+        raise ExportError(f"{where}: the blockmesh metadata lacks the number of mesh nodes")
+    offsets, cell_nodes, first = merge_polygons(
+        conn, cell, f.coords, where=where, corner_nodes=n_points
+    )
+    _, line_nodes = f.lines.joined(2)
+    lines = f.to_index(line_nodes, "boundary lines", where)
+    line_entity = f.lines.entity(np.arange(lines.shape[0]))
+    region_of_tag, region_names = _groups(f, 2, meta.get("region_names"))
+    patch_of_tag, patch_names = _groups(f, 1, meta.get("patch_names"))
+    element = first if order is None else order[first]
+    entity_of_cell = f.surface.entity(element)
+    columns: dict[str, Any] = {name: values[element] for name, values in views.items()}
+    return {
+        "points": np.array(f.coords[:n_points]),
+        "offsets": offsets,
+        "nodes": cell_nodes,
+        "block_id": _block_ids(meta, entity_of_cell, where),
+        "region": _lookup(f, entity_of_cell, 2, region_of_tag, where),
+        "region_names": region_names,
+        "boundary_edges": lines,
+        "boundary_patch": _lookup(f, line_entity, 1, patch_of_tag, where),
+        "patch_names": patch_names,
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+        **columns,
+    }
 
 
 def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
@@ -410,6 +464,7 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
         "patch_names": patch_names,
         "level": meta.get("level", 0),
         "name": meta.get("name", ""),
+        "dropped_curves": meta.get("curved_edges", 0),
     }
 
 

@@ -21,9 +21,11 @@ import numpy as np
 from blockmesh._system.atomic import atomic_file
 from blockmesh.io.common import encode_metadata
 from blockmesh.io.names import GMSH_NAME
+from blockmesh.io.polygons import POLYGONS
 from blockmesh.io.split import check_split, split_boundary, split_cells
 from blockmesh.io.text import write_rows
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["ELEMENT_NODES", "LAYOUT", "LINE", "QUADRANGLE", "TRIANGLE", "write_msh"]
 
@@ -56,16 +58,19 @@ def _entity_line(tag: int, box: np.ndarray, physical: int) -> str:
     return f"{tag} {x0} {y0} 0 {x1} {y1} 0 1 {physical} 0\n"
 
 
-def write_msh(mesh: Mesh, path: Path, *, split: str = "tri5") -> Path:
+def write_msh(mesh: Mesh | PolygonMesh, path: Path, *, split: str = "tri5") -> Path:
     """Write ``mesh`` to ``path`` (atomically) as Gmsh 4.1 ASCII, split by ``split``.
 
     O(M log M) (the surface entities are sorted); the text is formatted with whole-array
-    operations (:mod:`blockmesh.io.text`).
+    operations (:mod:`blockmesh.io.text`). A PolygonMesh is split by ``tri5`` (the fan around
+    each cell's vertex mean, as many triangles as the cell has vertices) and its cell levels go
+    in the element data ``cell_level``.
     """
     check_split(split)
     sc = split_cells(mesh, split)
     sb = split_boundary(mesh, split)
-    per_cell = sc.cells.shape[0] // max(mesh.n_cells, 1)
+    per = np.bincount(sc.parent, minlength=mesh.n_cells)  # elements of each cell
+    first_of = np.concatenate([[0], np.cumsum(per)])
     etype = TRIANGLE if sc.cells.shape[1] == 3 else QUADRANGLE
 
     n_regions = max(len(mesh.region_names), 1)
@@ -79,17 +84,22 @@ def write_msh(mesh: Mesh, path: Path, *, split: str = "tri5") -> Path:
     n_patches = len(mesh.patch_names)
 
     cell_order = np.argsort(cell_entity, kind="stable")
-    elem_index = (cell_order[:, None] * per_cell + np.arange(per_cell)).ravel()
+    counts = per[cell_order]
+    elem_index = np.repeat(first_of[cell_order] - np.cumsum(counts) + counts, counts) + np.arange(
+        int(counts.sum())
+    )
     elements = sc.cells[elem_index]
-    element_entity = np.repeat(cell_entity[cell_order], per_cell)
+    element_entity = np.repeat(cell_entity[cell_order], counts)
     line_order = np.argsort(sb.patch, kind="stable")
     lines, line_patch = sb.edges[line_order], sb.patch[line_order]
     n_lines, n_elems = lines.shape[0], elements.shape[0]
 
-    surf_box = _bbox(sc.points[mesh.cells], cell_entity, pairs.size)
+    surf_box = _bbox(sc.points[sc.cells], cell_entity[sc.parent], pairs.size)
     curve_box = _bbox(sc.points[lines], line_patch, n_patches)
+    extra = {"cells": POLYGONS} if isinstance(mesh, PolygonMesh) else {}
     meta = encode_metadata(
         mesh,
+        **extra,
         layout=LAYOUT,
         split=split,
         n_points=mesh.n_points,
@@ -128,7 +138,10 @@ def write_msh(mesh: Mesh, path: Path, *, split: str = "tri5") -> Path:
         pentagon = sc.parent[elem_index]
         tags = np.arange(1, total + 1)
         none = np.full(n_lines, -1, dtype=np.int64)
-        for view, values in (("pentagon", pentagon), ("parent", mesh.parent[pentagon])):
+        views = [("pentagon", pentagon), ("parent", mesh.parent[pentagon])]
+        if isinstance(mesh, PolygonMesh):
+            views.append(("cell_level", mesh.cell_level[pentagon]))
+        for view, values in views:
             w(f'$ElementData\n1\n"{view}"\n1\n0\n3\n0\n1\n{total}\n'.encode())
             write_rows(f, [tags, b" ", np.concatenate([none, values]), b"\n"])
             w(b"$EndElementData\n")

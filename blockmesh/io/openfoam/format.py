@@ -51,7 +51,7 @@ from __future__ import annotations
 
 from blockmesh.io.common import Format
 from blockmesh.io.names import FOAM_WORD
-from blockmesh.io.openfoam.reader import read_openfoam
+from blockmesh.io.openfoam.polygons import read_openfoam
 from blockmesh.io.openfoam.writer import EMPTY_PATCH, polymesh_dir, write_openfoam
 
 __all__ = ["EMPTY_PATCH", "FORMAT", "foam_word", "polymesh_dir", "read_openfoam", "write_openfoam"]

@@ -36,7 +36,19 @@ from blockmesh.io.common import mesh_from_arrays
 from blockmesh.io.text import TextReader, parse_numbers
 from blockmesh.mesh.mesh import Mesh
 
-__all__ = ["foam_file", "read_boundary", "read_faces", "read_list", "read_openfoam"]
+__all__ = [
+    "FaceSizeError",
+    "foam_file",
+    "read_boundary",
+    "read_faces",
+    "read_list",
+    "read_openfoam",
+]
+
+
+class FaceSizeError(ExportError):
+    """Faces of a range that are not all of the size asked for (e.g. polygons, not pentagons)."""
+
 
 _INT32 = np.iinfo(np.int32).max
 _CHUNK = 1 << 18
@@ -217,11 +229,11 @@ def read_faces(poly: Path, ranges: list[tuple[int, int, int]]) -> list[np.ndarra
                     n, 1 + size, np.int64, np.int32 if count <= _INT32 else np.int64, blank=b"()"
                 )
             except ExportError:
-                raise ExportError(
+                raise FaceSizeError(
                     f"{r.where}: faces {start}..{start + n - 1} are not all of {size} nodes"
                 ) from None
             if np.any(rows[:, 0] != size):
-                raise ExportError(
+                raise FaceSizeError(
                     f"{r.where}: faces {start}..{start + n - 1} are not all of {size} nodes"
                 )
             out.append(rows[:, 1:])
@@ -306,6 +318,10 @@ def _find_polymesh(path: Path) -> Path:
 
 def read_openfoam(path: Path) -> Mesh:
     """Read a one-layer extruded polyMesh (as :func:`write_openfoam` writes) back to pentagons.
+
+    Raises :class:`FaceSizeError` when the front and back faces are not all pentagons;
+    :func:`blockmesh.io.openfoam.polygons.read_openfoam` (what :func:`blockmesh.read` uses) then
+    reads the case as a PolygonMesh.
 
     ``path`` is the case, its ``constant`` directory or the ``polyMesh`` directory. ASCII files
     (optionally gzipped) only. O(F) in the number of faces; the internal faces are skipped.

@@ -21,10 +21,11 @@ import numpy as np
 
 from blockmesh._system.atomic import atomic_dir, atomic_file, export_errors
 from blockmesh.errors import ExportError
-from blockmesh.geometry.topology import boundary_slots, cell_neighbours
+from blockmesh.geometry.topology import PolygonCells, boundary_slots, cell_neighbours
 from blockmesh.io.names import FOAM_WORD
 from blockmesh.io.text import float_bytes, write_rows
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["EMPTY_PATCH", "polymesh_dir", "write_openfoam"]
 
@@ -72,34 +73,41 @@ def polymesh_dir(path: Path) -> tuple[Path, Path | None]:
 
 
 # ----------------------------------------------------------------------------------- writing
-def _faces(mesh: Mesh) -> dict[str, np.ndarray]:
+def _faces(mesh: Mesh | PolygonMesh) -> dict[str, np.ndarray]:
     """Quad side faces (internal, then per patch), owners, neighbours and patch sizes."""
-    cells, n, m = mesh.cells, mesh.n_points, mesh.n_cells
+    n, m = mesh.n_points, mesh.n_cells
+    cells: np.ndarray | PolygonCells
+    if isinstance(mesh, PolygonMesh):
+        cells = mesh.polygon_cells()
+        a, b, owner_of = mesh.nodes, cells.following(), cells.slot_cell()
+    else:
+        cells = mesh.cells
+        a, b = cells.ravel(), np.roll(cells, -1, axis=1).ravel()
+        owner_of = np.repeat(np.arange(m), 5)
     nb = cell_neighbours(cells, n).ravel()
-    a = cells.ravel()
-    b = np.roll(cells, -1, axis=1).ravel()
-    slot = np.arange(5 * m)
+    slot = np.arange(a.size)
     internal = (nb >= 0) & (slot < nb)
-    own, nei = slot[internal] // 5, nb[internal] // 5
+    own, nei = owner_of[slot[internal]], owner_of[nb[internal]]
     order = np.argsort(own * m + nei, kind="stable")  # by owner, then neighbour
     own, nei = own[order], nei[order]
     side_a, side_b = a[internal][order], b[internal][order]
 
-    b_slot = boundary_slots(cells, nb.reshape(m, 5), mesh.boundary_edges, n)
-    b_order = np.argsort(mesh.boundary_patch * m + b_slot // 5, kind="stable")
+    shaped = nb if isinstance(cells, PolygonCells) else nb.reshape(m, 5)
+    b_slot = boundary_slots(cells, shaped, mesh.boundary_edges, n)
+    b_order = np.argsort(mesh.boundary_patch * m + owner_of[b_slot], kind="stable")
     b_slot = b_slot[b_order]
     patch_sizes = np.bincount(mesh.boundary_patch, minlength=len(mesh.patch_names))
     all_a = np.concatenate([side_a, a[b_slot]])
     all_b = np.concatenate([side_b, b[b_slot]])
     return {
         "quads": np.stack([all_a, all_b, all_b + n, all_a + n], axis=1),
-        "owner": np.concatenate([own, b_slot // 5]),
+        "owner": np.concatenate([own, owner_of[b_slot]]),
         "neighbour": nei,
         "patch_sizes": patch_sizes,
     }
 
 
-def _mean_edge_length(mesh: Mesh, quads: np.ndarray) -> float:
+def _mean_edge_length(mesh: Mesh | PolygonMesh, quads: np.ndarray) -> float:
     """Mean length of the mesh's edges: the side faces hold each edge once."""
     d = mesh.points[quads[:, 1]] - mesh.points[quads[:, 0]]
     return float(np.mean(np.hypot(d[:, 0], d[:, 1])))
@@ -112,7 +120,16 @@ def _write_list(f: BinaryIO, count: int, parts: list, *, empty: bool = False) ->
     f.write(b")\n")
 
 
-def _write_polymesh(mesh: Mesh, poly: Path, faces: dict[str, np.ndarray], dz: float) -> None:
+def _cell_blocks(mesh: Mesh | PolygonMesh) -> list[tuple[int, np.ndarray, np.ndarray]]:
+    """The cells as blocks of one size: ``(size, cells (M_n, n), cell ids)`` each."""
+    if isinstance(mesh, PolygonMesh):
+        return [(g.size, g.cells, g.index) for g in mesh.groups]
+    return [(5, mesh.cells, np.arange(mesh.n_cells))]
+
+
+def _write_polymesh(
+    mesh: Mesh | PolygonMesh, poly: Path, faces: dict[str, np.ndarray], dz: float
+) -> None:
     n, m = mesh.n_points, mesh.n_cells
     quads, owner, neighbour = faces["quads"], faces["owner"], faces["neighbour"]
     n_quads = quads.shape[0]
@@ -133,17 +150,19 @@ def _write_polymesh(mesh: Mesh, poly: Path, faces: dict[str, np.ndarray], dz: fl
         f.write(_header("faceList", "faces"))
         f.write(f"{n_faces}\n(\n".encode())
         write_rows(f, [b"4(", quads, b")\n"])
-        write_rows(f, [b"5(", mesh.cells[:, ::-1], b")\n"])
-        write_rows(f, [b"5(", mesh.cells + n, b")\n"])
+        for size, rows, _ in _cell_blocks(mesh):
+            write_rows(f, [f"{size}(".encode(), rows[:, ::-1], b")\n"])
+        for size, rows, _ in _cell_blocks(mesh):
+            write_rows(f, [f"{size}(".encode(), rows + n, b")\n"])
         f.write(b")\n" + _END)
 
-    cell_ids = np.arange(m)
     with open(poly / "owner", "wb") as f:
         f.write(_header("labelList", "owner", note=note))
         f.write(f"{n_faces}\n(\n".encode())
         write_rows(f, [owner, b"\n"])
-        write_rows(f, [cell_ids, b"\n"])
-        write_rows(f, [cell_ids, b"\n"])
+        for _ in range(2):
+            for _, _, cell_ids in _cell_blocks(mesh):
+                write_rows(f, [cell_ids, b"\n"])
         f.write(b")\n" + _END)
 
     with open(poly / "neighbour", "wb") as f:
@@ -321,12 +340,13 @@ def _write_system(case: Path) -> None:
             tmp.write_bytes(_header("dictionary", name, location="system") + text.encode() + _END)
 
 
-def write_openfoam(mesh: Mesh, path: Path, *, dz: float | None = None) -> Path:
+def write_openfoam(mesh: Mesh | PolygonMesh, path: Path, *, dz: float | None = None) -> Path:
     """Write ``mesh`` as an OpenFOAM case (or bare ``polyMesh``); returns the ``polyMesh`` path.
 
     Parameters
     ----------
-    mesh : Mesh
+    mesh : Mesh or PolygonMesh
+        A PolygonMesh's cells become n-gon prisms (see :mod:`blockmesh.io.openfoam.polygons`).
     path : Path
         A case directory (created if its parent exists), or a path ending in ``polyMesh``.
     dz : float, optional

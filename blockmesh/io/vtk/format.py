@@ -43,15 +43,19 @@ import numpy as np
 from blockmesh._system.atomic import atomic_file, scratch_file
 from blockmesh.errors import ExportError
 from blockmesh.io.common import Format, decode_metadata, mesh_from_arrays
+from blockmesh.io.polygons import is_polygon_file
 from blockmesh.io.vtk.stream import read_stream
 from blockmesh.io.vtu.format import (
     field_data,
+    holds_polygons,
     meshio_arrays,
     meshio_mesh,
     own_arrays,
     padded_arrays,
+    polygon_mesh_from_meshio,
 )
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["FORMAT", "decode_name", "encode_name", "read_vtk", "write_vtk"]
 
@@ -88,7 +92,7 @@ def _field_block(data: dict[str, np.ndarray]) -> bytes:
     return b"".join(parts)
 
 
-def write_vtk(mesh: Mesh, path: Path) -> Path:
+def write_vtk(mesh: Mesh | PolygonMesh, path: Path) -> Path:
     """Write ``mesh`` to ``path`` (atomically) as legacy VTK 5.1; returns the path. O(N + M)."""
     import meshio
 
@@ -100,7 +104,7 @@ def write_vtk(mesh: Mesh, path: Path) -> Path:
             if at < 0:
                 raise ExportError(f"unexpected legacy VTK layout from meshio in {raw}")
             at += len(_DATASET)
-            fout.write(head[:at] + _field_block(field_data(mesh)) + head[at:])
+            fout.write(head[:at] + _field_block(field_data(mesh, curves=False)) + head[at:])
             shutil.copyfileobj(fin, fout, 1 << 22)
     return Path(path).absolute()
 
@@ -206,7 +210,7 @@ def _check_sizes(path: Path, where: str) -> None:
             return
 
 
-def read_vtk(path: Path) -> Mesh:
+def read_vtk(path: Path) -> Mesh | PolygonMesh:
     """Read a legacy VTK file of pentagons (and boundary lines), as :func:`write_vtk` writes.
 
     Files from elsewhere (any version meshio reads) are read too when their polygons are all
@@ -224,10 +228,11 @@ def read_vtk(path: Path) -> Mesh:
     fields = _read_field(head, where)
     raw = fields.get("blockmesh")
     meta = decode_metadata(None if raw is None else raw.astype(np.uint8), where)
-    parts = read_stream(Path(path)) if "blockmesh" in fields else None
+    polygons = is_polygon_file(meta)
+    parts = read_stream(Path(path)) if "blockmesh" in fields and not polygons else None
     if parts is not None:  # a file blockmesh wrote: read straight into the arrays
         arrays = padded_arrays(
-            parts["points"], parts["cells"], parts["edges"], parts["cell_data"], fields, meta
+            parts["points"], parts["cells"], parts["edges"], parts["cell_data"], fields, meta, where
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
@@ -240,6 +245,8 @@ def read_vtk(path: Path) -> Mesh:
     except Exception as exc:  # meshio raises many kinds
         raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
     vm.field_data = {**vm.field_data, **fields}
+    if holds_polygons(vm, meta):
+        return polygon_mesh_from_meshio(vm, meta, where)
     arrays = meshio_arrays(vm, meta, where)
     del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
     return mesh_from_arrays(where=where, **own_arrays(arrays))

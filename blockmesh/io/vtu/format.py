@@ -1,7 +1,8 @@
 """VTK ``.vtu`` (ParaView, VisIt, meshio): polygon cells plus the boundary as ``line`` cells.
 
-Written with meshio. The grid holds the pentagons (VTK_POLYGON) followed by the boundary edges
-(VTK_LINE), with integer cell data
+Written by :mod:`blockmesh.io.vtu.writer` in meshio's layout (arrays streamed piece by piece,
+compressed blocks on several threads). The grid holds the pentagons (VTK_POLYGON) followed by
+the boundary edges (VTK_LINE), with integer cell data
 
 =========== =========================== ========================
 array       on the polygons             on the lines
@@ -17,15 +18,22 @@ region, named ``patch:NAME`` and ``region:NAME``, whose value is the index the `
 ``region`` arrays use (ParaView lists them in its Information panel: ``patch:inlet  [1, 1]``).
 Text arrays would show better, but meshio cannot read them. The names, the level and the mesh
 name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its UTF-8 bytes), which
-blockmesh reads back. meshio does not write field data, so it is added to the XML after meshio
-has written the file; meshio and VTK read it back.
+blockmesh reads back. A mesh with curved edges also has the field data arrays of
+:data:`~blockmesh.io._common.CURVE_ARRAYS` (``curve_edges`` flattened, ``curve_index``,
+``curve_start``, ``curve_stop``, and ``curve_shapes``, the bytes of a JSON list), so that
+refining the mesh read back follows its curves. meshio and VTK read all of it back.
 
 Reading: the files blockmesh writes are decoded in chunks straight into the mesh's arrays
 (:mod:`blockmesh.io.vtu.stream`, about 1.7x the mesh at its peak); other VTU files, and damaged
 ones, are read with meshio.
 
-Compression: ``"zlib"`` (the default: ParaView reads it everywhere, about 3x smaller for little
-time), ``"lzma"`` (smaller still, several times slower), ``"none"`` (raw base64, fastest).
+Compression: ``"none"`` (the default: raw base64, the fastest, about twice the time of the
+refinement that made the mesh), ``"zlib"`` (zlib level 1 on several threads: about 2.5x smaller
+for about 4x the time of ``"none"``; ParaView reads it everywhere) or ``"lzma"`` (a third
+smaller than zlib, tens of times slower). At level 7 of the l-shape (6.7 M cells) on two busy
+cores: none 1.9 s of CPU and 690 MB, zlib 7.6 s and 278 MB, against 0.8 s for the refinement
+(meshio's writer, before: 9.6 s and 1,111 MB, 22.4 s and 287 MB);
+``benchmarks/bench_export.py --vtu`` measures them.
 
 Examples
 --------
@@ -58,22 +66,34 @@ from blockmesh._system.atomic import atomic_file, scratch_file
 from blockmesh.errors import ExportError
 from blockmesh.io.common import (
     Format,
+    curve_arrays,
+    curves_from_arrays,
     decode_metadata,
     encode_metadata,
     mesh_from_arrays,
     name_lookup,
 )
+from blockmesh.io.polygons import (
+    POLYGONS,
+    blocks_to_rows,
+    is_polygon_file,
+    polygon_mesh_from_arrays,
+)
 from blockmesh.io.vtu.stream import read_stream
+from blockmesh.io.vtu.writer import write_vtu_stream
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "FORMAT",
     "field_data",
+    "holds_polygons",
     "mesh_from_meshio",
     "meshio_arrays",
     "meshio_mesh",
     "own_arrays",
     "padded_arrays",
+    "polygon_mesh_from_meshio",
     "read_vtu",
     "write_vtu",
 ]
@@ -81,8 +101,11 @@ __all__ = [
 _FIELD = "blockmesh"
 
 
-def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
-    """The field data of a VTK file of ``mesh``: the name lookups and the JSON metadata.
+def field_data(mesh: Mesh | PolygonMesh, *, curves: bool = True) -> dict[str, np.ndarray]:
+    """The field data of a VTK file of ``mesh``: name lookups, metadata, curved edges.
+
+    That is the ``KIND:NAME`` lookups, the JSON metadata (``cells: polygons`` for a polygon mesh)
+    and, with ``curves``, the curved edges (:func:`~blockmesh.io.common.curve_arrays`, flattened).
 
     Examples
     --------
@@ -97,14 +120,18 @@ def field_data(mesh: Mesh) -> dict[str, np.ndarray]:
         for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names))
         for name, index in name_lookup(kind, names).items()
     }
-    data[_FIELD] = np.frombuffer(encode_metadata(mesh).encode("utf-8"), dtype=np.uint8)
+    extra = {"cells": POLYGONS} if isinstance(mesh, PolygonMesh) else {}
+    data[_FIELD] = np.frombuffer(encode_metadata(mesh, **extra).encode("utf-8"), dtype=np.uint8)
+    if curves:
+        data.update({k: v.reshape(-1) for k, v in curve_arrays(mesh).items()})
     return data
 
 
 def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
     arrays = []
+    kinds = {"u": "UInt8", "i": "Int64", "f": "Float64"}
     for name, values in data.items():
-        kind = "UInt8" if values.dtype == np.uint8 else "Int64"
+        kind = kinds[values.dtype.kind]
         text = " ".join(map(str, values.tolist()))
         arrays.append(
             f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="{values.size}" '
@@ -126,10 +153,16 @@ def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> Non
         shutil.copyfileobj(fin, fout, 1 << 22)
 
 
-def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
-    """``mesh`` as a :class:`meshio.Mesh`: polygons then boundary lines, cell data -1 padded."""
+def meshio_mesh(mesh: Mesh | PolygonMesh) -> meshio.Mesh:
+    """``mesh`` as a :class:`meshio.Mesh`: polygons then boundary lines, cell data -1 padded.
+
+    A PolygonMesh's cells go in one polygon block per vertex count, with the cell data
+    ``cell_index`` (each cell's position in the mesh) and ``cell_level``.
+    """
     import meshio
 
+    if isinstance(mesh, PolygonMesh):
+        return _meshio_polygons(mesh)
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
     minus_m, minus_eb = np.full(m, -1, np.int64), np.full(eb, -1, np.int64)
     cells = [("polygon", mesh.cells)]
@@ -151,12 +184,115 @@ def meshio_mesh(mesh: Mesh) -> meshio.Mesh:
     )
 
 
-def write_vtu(mesh: Mesh, path: Path, *, compression: str = "zlib") -> Path:
-    """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M)."""
+def _meshio_polygons(mesh: PolygonMesh) -> meshio.Mesh:
+    import meshio
+
+    groups = mesh.groups
+    eb = mesh.boundary_edges.shape[0]
+    cells = [("polygon", g.cells) for g in groups]
+    if eb:
+        cells.append(("line", mesh.boundary_edges))
+    minus_eb = np.full(eb, -1, np.int64)
+
+    def data(values: np.ndarray | None, on_lines: np.ndarray | None = None) -> list[np.ndarray]:
+        parts = [
+            np.full(g.n_cells, -1, np.int64) if values is None else values[g.index] for g in groups
+        ]
+        return parts + ([minus_eb if on_lines is None else on_lines] if eb else [])
+
+    return meshio.Mesh(
+        np.column_stack([mesh.points, np.zeros(mesh.n_points)]),
+        cells,
+        cell_data={
+            "block_id": data(mesh.block_id),
+            "region": data(mesh.region),
+            "parent": data(mesh.parent),
+            "patch": data(None, mesh.boundary_patch),
+            "cell_index": data(np.arange(mesh.n_cells, dtype=np.int64)),
+            "cell_level": data(mesh.cell_level),
+        },
+    )
+
+
+def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> PolygonMesh:
+    """A :class:`PolygonMesh` from a meshio mesh of polygons of any sizes (and boundary lines).
+
+    The cells are taken in the file's order, or in the order of the cell data ``cell_index``
+    when present (blockmesh writes one block per vertex count).
+    """
+    blocks = [(k, c.type, np.asarray(c.data)) for k, c in enumerate(vm.cells)]
+    polys = [(k, d) for k, t, d in blocks if t in ("polygon", "pentagon")]
+    lines = [(k, d) for k, t, d in blocks if t == "line"]
+    others = sorted({t for _, t, _ in blocks} - {"polygon", "pentagon", "line"})
+    if others or not polys:
+        raise ExportError(
+            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads polygon "
+            "meshes (polygon cells, optionally with boundary lines)"
+        )
+
+    def gather(name: str, which: list[tuple[int, np.ndarray]]) -> np.ndarray | None:
+        if name not in vm.cell_data:
+            return None
+        return np.concatenate([np.asarray(vm.cell_data[name][k]).ravel() for k, _ in which])
+
+    offsets, nodes = blocks_to_rows([d for _, d in polys])
+    columns = {name: gather(name, polys) for name in ("block_id", "parent", "region", "cell_level")}
+    index = gather("cell_index", polys)
+    if index is not None:
+        order = np.argsort(index, kind="stable")
+        if not np.array_equal(index[order], np.arange(index.size)):
+            raise ExportError(f"{where}: the cell_index data is not a permutation of the cells")
+        sizes = np.diff(offsets)[order]
+        starts = offsets[:-1][order]
+        offsets = np.concatenate([[0], np.cumsum(sizes)])
+        run = np.repeat(starts - offsets[:-1], sizes)
+        nodes = nodes[np.arange(nodes.size) + run]
+        columns = {k: None if v is None else v[order] for k, v in columns.items()}
+    edges = np.concatenate([d for _, d in lines]) if lines else None
+    patch = gather("patch", lines) if lines else None
+    patch_names = _names(meta, vm.field_data, "patch")
+    if edges is not None and patch is None:
+        patch_names = patch_names or ["boundary"]
+    return polygon_mesh_from_arrays(
+        vm.points,
+        offsets,
+        nodes,
+        where=where,
+        region_names=_names(meta, vm.field_data, "region"),
+        boundary_edges=edges if edges is not None else (np.empty((0, 2)) if meta else None),
+        boundary_patch=patch,
+        patch_names=patch_names,
+        level=meta.get("level", 0),
+        name=meta.get("name", ""),
+        **columns,
+    )
+
+
+def holds_polygons(vm: meshio.Mesh, meta: dict) -> bool:
+    """Whether a meshio mesh read from a file is a polygon mesh (not all pentagons)."""
+    if is_polygon_file(meta):
+        return True
+    return any(
+        c.type == "polygon" and np.asarray(c.data).ndim == 2 and np.asarray(c.data).shape[1] != 5
+        for c in vm.cells
+    )
+
+
+def write_vtu(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none") -> Path:
+    """Write ``mesh`` to ``path`` (atomically) as VTU; returns the path. O(N + M).
+
+    An all-pentagon mesh is streamed (:mod:`blockmesh.io.vtu.writer`): the arrays piece by
+    piece, compressed blocks on several threads, in meshio's layout with the field data in place.
+    A polygon mesh (cells of several sizes) goes through meshio, a polygon block per vertex count.
+    """
+    if not isinstance(mesh, PolygonMesh):
+        with atomic_file(path) as final, open(final, "wb") as out:
+            write_vtu_stream(out, mesh, _field_data_xml(field_data(mesh)), compression=compression)
+        return Path(path).absolute()
     import meshio
 
     out = meshio_mesh(mesh)
-    big = max(mesh.cells.nbytes * 2, mesh.points.nbytes * 2) >= 2**31
+    big = max(mesh.nodes.nbytes * 2, mesh.points.nbytes * 2) >= 2**31
     with atomic_file(path) as final, scratch_file(path) as raw:
         meshio.vtu.write(
             str(raw),
@@ -183,6 +319,16 @@ def _names(meta: dict, fields: dict, kind: str) -> list[str] | None:
     if not lookup or sorted(lookup) != list(range(len(lookup))):
         return None
     return [lookup[k] for k in range(len(lookup))]
+
+
+def _curves(meta: dict, fields: dict, where: str) -> dict[str, Any]:
+    """The level, name and curves arguments of :func:`mesh_from_arrays` from the field data."""
+    return {
+        "level": meta.get("level", 0),
+        "name": meta.get("name", ""),
+        "curves": curves_from_arrays(fields, where),
+        "dropped_curves": meta.get("curved_edges", 0),
+    }
 
 
 def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
@@ -230,8 +376,7 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
         "boundary_edges": edges if edges is not None else (np.empty((0, 2)) if meta else None),
         "boundary_patch": patch,
         "patch_names": patch_names,
-        "level": meta.get("level", 0),
-        "name": meta.get("name", ""),
+        **_curves(meta, vm.field_data, where),
     }
 
 
@@ -242,6 +387,7 @@ def padded_arrays(
     cell_data: dict[str, tuple[np.ndarray, np.ndarray]],
     fields: dict[str, np.ndarray],
     meta: dict,
+    where: str = "the file",
 ) -> dict[str, Any]:
     """The arguments of :func:`mesh_from_arrays` from a VTK file's arrays, read directly.
 
@@ -264,8 +410,7 @@ def padded_arrays(
         "boundary_patch": patch,
         "patch_names": _names(meta, fields, "patch")
         or (None if patch is not None else ["boundary"]),
-        "level": meta.get("level", 0),
-        "name": meta.get("name", ""),
+        **_curves(meta, fields, where),
     }
 
 
@@ -287,7 +432,7 @@ def own_arrays(arrays: dict[str, Any]) -> dict[str, Any]:
     return arrays
 
 
-def read_vtu(path: Path) -> Mesh:
+def read_vtu(path: Path) -> Mesh | PolygonMesh:
     """Read a VTU file of pentagons (and boundary lines), as written by :func:`write_vtu`.
 
     Files from elsewhere are read too when their polygons are all pentagons: missing data gets
@@ -297,10 +442,10 @@ def read_vtu(path: Path) -> Mesh:
     """
     where = str(path)
     parts = read_stream(Path(path))
-    if parts is not None:
+    if parts is not None:  # pentagons only: a polygon file is never one it handles
         meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
         arrays = padded_arrays(
-            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta
+            parts.points, parts.cells, parts.edges, parts.cell_data, parts.fields, meta, where
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
@@ -314,6 +459,8 @@ def read_vtu(path: Path) -> Mesh:
         raise ExportError(f"cannot read {where} as VTU: {exc}") from None
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
+    if holds_polygons(vm, meta):
+        return polygon_mesh_from_meshio(vm, meta, where)
     arrays = meshio_arrays(vm, meta, where)
     del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
     return mesh_from_arrays(where=where, **own_arrays(arrays))
@@ -325,5 +472,5 @@ FORMAT = Format(
     extensions=(".vtu",),
     writer=write_vtu,
     reader=read_vtu,
-    compressions=("zlib", "lzma", "none"),
+    compressions=("none", "zlib", "lzma"),
 )

@@ -44,7 +44,8 @@ import numpy as np
 __all__ = ["VtuParts", "read_stream"]
 
 _CHUNK = 1 << 22  # base64 characters decoded at a time (a multiple of 4)
-_TAG_LIMIT = 1 << 16  # the longest tag (or ascii field data array) the reader accepts
+_TAG_LIMIT = 1 << 16  # the longest tag the reader accepts
+_FIELD_LIMIT = 1 << 28  # the longest ascii field data array (the curved edges are there)
 _TYPES = {
     "Int8": "<i1",
     "UInt8": "<u1",
@@ -174,10 +175,10 @@ class _Scanner:
         self.pos = 0
         return True
 
-    def until(self, token: bytes) -> bytes:
-        """The (short) text up to ``token``, which is consumed."""
+    def until(self, token: bytes, limit: int = _TAG_LIMIT) -> bytes:
+        """The (short: at most ``limit`` bytes) text up to ``token``, which is consumed."""
         while (at := self.buf.find(token, self.pos)) < 0:
-            if len(self.buf) - self.pos > _TAG_LIMIT or not self._more():
+            if len(self.buf) - self.pos > limit or not self._more():
                 raise _NotOursError(f"no {token!r}")
         text = self.buf[self.pos : at]
         self.pos = at + len(token)
@@ -310,7 +311,7 @@ def _field(scan: _Scanner, attrs: dict[str, str]) -> np.ndarray:
     dtype = _TYPES.get(attrs.get("type", ""))
     if attrs.get("format") != "ascii" or dtype is None:
         raise _NotOursError("field data that is not ascii")
-    text = scan.until(b"</DataArray>")
+    text = scan.until(b"</DataArray>", _FIELD_LIMIT)
     try:
         return np.array(text.split(), dtype=np.float64).astype(dtype)
     except ValueError:

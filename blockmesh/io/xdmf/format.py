@@ -16,7 +16,10 @@ grid attributes (ParaView shows them as field data: the index each name has), an
                                      ``/mesh/region``, ``/mesh/parent`` and ``/mesh/patch``
 ===================== ============== =========================================================
 
-and the root attribute ``blockmesh`` (the same JSON). The cells, in h5py:
+and the root attribute ``blockmesh`` (the same JSON). A mesh with curved edges also has the group
+``/curves`` with the arrays of :data:`~blockmesh.io._common.CURVE_ARRAYS` (``/curves/curve_edges``
+...), which ParaView ignores and :func:`read_xdmf` reads back, so that refining the mesh read
+follows its curves. The cells, in h5py:
 ``f["mesh/topology"][: 7 * M].reshape(M, 7)[:, 2:]``.
 
 Files, atomically. The ``.h5`` of ``mesh.xdmf`` is ``mesh.<8 hex digits>.h5``, a new name at
@@ -68,14 +71,19 @@ import numpy as np
 from blockmesh._system.atomic import atomic_with_data
 from blockmesh.errors import ExportError
 from blockmesh.io.common import (
+    CURVE_ARRAYS,
     Format,
+    curve_arrays,
+    curves_from_arrays,
     decode_metadata,
     encode_metadata,
     mesh_from_arrays,
     name_lookup,
 )
+from blockmesh.io.polygons import POLYGONS, is_polygon_file, polygon_mesh_from_arrays
 from blockmesh.io.text import parse_numbers
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["FORMAT", "read_xdmf", "write_xdmf"]
 
@@ -95,16 +103,20 @@ def _data_item(parent: ET.Element, source: str, shape: tuple[int, ...], kind: st
     item.text = source
 
 
-def _xdmf_tree(mesh: Mesh, h5name: str, meta: str) -> ET.ElementTree:
+def _xdmf_tree(
+    mesh: Mesh | PolygonMesh, h5name: str, meta: str, topology_size: int | None = None
+) -> ET.ElementTree:
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
     root = ET.Element("Xdmf", Version="3.0")
     domain = ET.SubElement(root, "Domain")
     grid = ET.SubElement(domain, "Grid", Name=mesh.name or "mesh", GridType="Uniform")
     top = ET.SubElement(grid, "Topology", TopologyType="Mixed", NumberOfElements=str(m + eb))
-    _data_item(top, f"{h5name}:/mesh/topology", (7 * m + 4 * eb,), "Int")
+    size = 7 * m + 4 * eb if topology_size is None else topology_size
+    _data_item(top, f"{h5name}:/mesh/topology", (size,), "Int")
     geo = ET.SubElement(grid, "Geometry", GeometryType="XY")
     _data_item(geo, f"{h5name}:/mesh/points", mesh.points.shape, "Float")
-    for name in _CELL_DATA:
+    names = _CELL_DATA + (("cell_level",) if isinstance(mesh, PolygonMesh) else ())
+    for name in names:
         att = ET.SubElement(grid, "Attribute", Name=name, AttributeType="Scalar", Center="Cell")
         _data_item(att, f"{h5name}:/mesh/{name}", (m + eb,), "Int")
     for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names)):
@@ -163,22 +175,37 @@ def _hdf5_errors() -> Iterator[None]:
         raise OSError(code, os.strerror(code)) from error
 
 
-def write_xdmf(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
+def _dataset_options(compression: str) -> dict[str, Any]:
+    """h5py's dataset options for ``compression`` (gzip level 4, shuffled, for ``"zlib"``)."""
+    if compression == "zlib":
+        return {"compression": "gzip", "compression_opts": 4, "shuffle": True}
+    return {}
+
+
+def _write_light(path: Path, tree: ET.ElementTree) -> None:
+    """The light XML file: declaration, doctype and the tree."""
+    with open(path, "wb") as f:
+        f.write(b'<?xml version="1.0" encoding="utf-8"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n')
+        tree.write(f, encoding="utf-8", xml_declaration=False)
+        f.write(b"\n")
+
+
+def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none") -> Path:
     """Write ``mesh`` to ``path`` (``.xdmf``) and its ``.h5``; returns the ``.xdmf`` path.
 
-    O(N + M), bounded by disk speed without compression.
+    O(N + M), bounded by disk speed without compression. A PolygonMesh's cells go in the same
+    ``Mixed`` topology, ``3 n v0 .. v(n-1)`` each, with ``/mesh/offsets`` (its compressed rows'
+    offsets) and ``/mesh/cell_level`` beside.
     """
     import h5py
 
     path = Path(path).absolute()
     if path.suffix.lower() == ".h5":
         raise ExportError(f"cannot write {path}: the XDMF file needs a name not ending in .h5")
+    if isinstance(mesh, PolygonMesh):
+        return _write_polygons(mesh, path, compression)
     m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
-    options: dict[str, Any] = (
-        {"compression": "gzip", "compression_opts": 4, "shuffle": True}
-        if compression == "zlib"
-        else {}
-    )
+    options = _dataset_options(compression)
     write_id = secrets.token_hex(8)
     with atomic_with_data(path, ".h5", owned=_owned(path.name)) as (tmp_xdmf, tmp_h5, h5):
         meta = encode_metadata(mesh, light=path.name, data=h5.name, write_id=write_id, n_cells=m)
@@ -200,13 +227,58 @@ def write_xdmf(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
             g.create_dataset(
                 "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
             )
+            curves = curve_arrays(mesh)
+            if curves:
+                c = f.create_group("curves")
+                for name, values in curves.items():
+                    c.create_dataset(name, data=values)
         tree = _xdmf_tree(mesh, h5.name, meta)
-        with open(tmp_xdmf, "wb") as f:
-            f.write(
-                b'<?xml version="1.0" encoding="utf-8"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
+        _write_light(tmp_xdmf, tree)
+    return path
+
+
+def _polygon_topology(mesh: PolygonMesh) -> np.ndarray:
+    """The Mixed topology of a PolygonMesh: ``3 n v..`` per cell, then ``2 2 a b`` per edge."""
+    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    sizes = mesh.cell_sizes()
+    starts = mesh.offsets[:-1] + 2 * np.arange(m)  # each record 2 + n long
+    total = int(mesh.nodes.size) + 2 * m
+    top = np.empty(total + 4 * eb, dtype=np.int64)
+    top[starts] = _POLYGON
+    top[starts + 1] = sizes
+    owner = mesh.polygon_cells().slot_cell()
+    top[np.arange(mesh.nodes.size) + 2 * (owner + 1)] = mesh.nodes
+    if eb:
+        line = np.empty((eb, 4), dtype=np.int64)
+        line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, mesh.boundary_edges
+        top[total:] = line.ravel()
+    return top
+
+
+def _write_polygons(mesh: PolygonMesh, path: Path, compression: str) -> Path:
+    import h5py
+
+    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    options = _dataset_options(compression)
+    write_id = secrets.token_hex(8)
+    top = _polygon_topology(mesh)
+    with atomic_with_data(path, ".h5", owned=_owned(path.name)) as (tmp_xdmf, tmp_h5, h5):
+        meta = encode_metadata(
+            mesh, light=path.name, data=h5.name, write_id=write_id, n_cells=m, cells=POLYGONS
+        )
+        with _hdf5_errors(), h5py.File(tmp_h5, "w") as f:
+            f.attrs["blockmesh"] = meta
+            g = f.create_group("mesh")
+            g.create_dataset("points", data=mesh.points, **options)
+            g.create_dataset("topology", data=top, **options)
+            g.create_dataset("offsets", data=mesh.offsets, **options)
+            for name in ("block_id", "region", "parent", "cell_level"):
+                g.create_dataset(name, data=_padded(getattr(mesh, name), m, eb), **options)
+            g.create_dataset(
+                "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
             )
-            tree.write(f, encoding="utf-8", xml_declaration=False)
-            f.write(b"\n")
+        tree = _xdmf_tree(mesh, h5.name, meta, topology_size=top.size)
+        _write_light(tmp_xdmf, tree)
     return path
 
 
@@ -277,6 +349,42 @@ def _read_item(item: ET.Element, heavy: _Heavy) -> np.ndarray:
     return arr.reshape(dims) if dims and int(np.prod(dims)) == arr.size else arr
 
 
+def _mixed_polygons(
+    top: np.ndarray, n_elements: int, where: str, offsets: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Polygons (offsets, nodes) and 2-node lines from a mixed topology, polygons first.
+
+    With the offsets blockmesh writes beside, in whole-array steps; otherwise the records are
+    walked one by one (files from elsewhere).
+    """
+    top = top.ravel()
+    if offsets is None:
+        sizes: list[int] = []
+        at = 0
+        while at < top.size and top[at] == _POLYGON:
+            if at + 1 >= top.size:
+                raise ExportError(f"{where}: the Mixed topology ends inside a polygon")
+            sizes.append(int(top[at + 1]))
+            at += 2 + sizes[-1]
+        offsets = np.concatenate([[0], np.cumsum(sizes, dtype=np.int64)])
+    offsets = np.asarray(offsets, dtype=np.int64)
+    m = offsets.size - 1
+    total = int(offsets[-1]) + 2 * m
+    eb = n_elements - m
+    if m < 1 or eb < 0 or total + 4 * eb != top.size:
+        raise ExportError(f"{where}: the Mixed topology is not polygons then 2-node lines")
+    starts = offsets[:-1] + 2 * np.arange(m)
+    sizes_arr = np.diff(offsets)
+    if np.any(top[starts] != _POLYGON) or np.any(top[starts + 1] != sizes_arr):
+        raise ExportError(f"{where}: the Mixed topology's polygons do not match their offsets")
+    owner = np.repeat(np.arange(m), sizes_arr)
+    nodes = top[np.arange(int(offsets[-1])) + 2 * (owner + 1)]
+    line = top[total:].reshape(eb, 4)
+    if np.any(line[:, 0] != _POLYLINE) or np.any(line[:, 1] != 2):
+        raise ExportError(f"{where}: the Mixed topology holds lines that are not 2-node lines")
+    return offsets, nodes, np.ascontiguousarray(line[:, 2:])
+
+
 def _mixed(top: np.ndarray, n_elements: int, where: str) -> tuple[np.ndarray, np.ndarray]:
     """Pentagons and boundary edges from a mixed topology: pentagons first, then 2-node lines."""
     top = top.ravel()
@@ -297,7 +405,18 @@ def _mixed(top: np.ndarray, n_elements: int, where: str) -> tuple[np.ndarray, np
     return np.ascontiguousarray(poly[:, 2:]), np.ascontiguousarray(line[:, 2:])
 
 
-def read_xdmf(path: Path) -> Mesh:
+def _pentagons(top: np.ndarray, n_elements: int, where: str) -> tuple | None:
+    """``_mixed``'s pentagons and lines, or None when the cells are polygons of other sizes."""
+    try:
+        return _mixed(top, n_elements, where)
+    except ExportError:
+        top = top.ravel()
+        if top.size >= 2 and top[0] == _POLYGON:
+            return None  # polygons, not all of five nodes: read as a PolygonMesh
+        raise
+
+
+def read_xdmf(path: Path) -> Mesh | PolygonMesh:
     """Read a mesh written by :func:`write_xdmf` (h5py + xml.etree).
 
     Also reads the earlier layout (a collection of a ``Polygon`` grid and a ``Polyline`` grid)
@@ -351,9 +470,46 @@ def read_xdmf(path: Path) -> Mesh:
         block_id, parent, region = (
             attribute(cells_grid, a) for a in ("block_id", "parent", "region")
         )
-        if top_el.get("TopologyType", top_el.get("Type", "")).lower() == "mixed":
-            n_elements = int(top_el.get("NumberOfElements", "-1"))
-            cells, edges = _mixed(item(top_el, "the topology"), n_elements, where)
+        mixed = top_el.get("TopologyType", top_el.get("Type", "")).lower() == "mixed"
+        n_elements = int(top_el.get("NumberOfElements", "-1"))
+        topology = item(top_el, "the topology") if mixed else np.empty(0, np.int64)
+        pentagons = None
+        if mixed and not is_polygon_file(meta):
+            pentagons = _pentagons(topology, n_elements, where)
+        if mixed and pentagons is None:
+            stored = meta.get("data")
+            offsets = (
+                heavy.dataset(f"{stored}:/mesh/offsets")
+                if is_polygon_file(meta) and stored
+                else None
+            )
+            offsets, nodes, edges = _mixed_polygons(topology, n_elements, where, offsets)
+            m = offsets.size - 1
+            columns = {
+                name: None if a is None else a[:m].copy()
+                for name, a in (
+                    ("block_id", block_id),
+                    ("parent", parent),
+                    ("region", region),
+                    ("cell_level", attribute(cells_grid, "cell_level")),
+                )
+            }
+            patch = attribute(cells_grid, "patch")
+            return polygon_mesh_from_arrays(
+                points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
+                offsets,
+                nodes,
+                where=where,
+                region_names=meta.get("region_names"),
+                boundary_edges=edges,
+                boundary_patch=None if patch is None else patch[m:].copy(),
+                patch_names=meta.get("patch_names") or ("boundary",),
+                level=meta.get("level", 0),
+                name=meta.get("name", ""),
+                **columns,
+            )
+        if pentagons is not None:
+            cells, edges = pentagons
             m = cells.shape[0]
             block_id, parent, region = (
                 None if a is None else a[:m].copy() for a in (block_id, parent, region)
@@ -367,6 +523,13 @@ def read_xdmf(path: Path) -> Mesh:
                 patch = attribute(lines_grid, "patch")
             elif meta:
                 edges = np.empty((0, 2), dtype=np.int64)
+        curves = None
+        if meta.get("curved_edges"):
+            data = top_el.find("DataItem")
+            h5name = "" if data is None else (data.text or "").strip().partition(":")[0]
+            curves = curves_from_arrays(
+                {k: heavy.dataset(f"{h5name}:/curves/{k}") for k in CURVE_ARRAYS}, where
+            )
         return mesh_from_arrays(
             points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
             cells,
@@ -380,6 +543,7 @@ def read_xdmf(path: Path) -> Mesh:
             patch_names=meta.get("patch_names") or (("boundary",) if edges is not None else None),
             level=meta.get("level", 0),
             name=meta.get("name", ""),
+            curves=curves,
         )
     finally:
         heavy.close()
