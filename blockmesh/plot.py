@@ -20,7 +20,7 @@ from blockmesh._system.atomic import atomic_file
 from blockmesh.checks import choice
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
-from blockmesh.geometry.topology import cell_neighbours
+from blockmesh.geometry.topology import PolygonCells, cell_neighbours
 from blockmesh.mesh.measures import cell_shapes
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.sizes import DRAW_LIMIT
@@ -469,19 +469,23 @@ def plot_sizes(mesh, path: str | Path, *, field=None, worst: int = 10) -> Path:
     from matplotlib.colors import LogNorm, TwoSlopeNorm
 
     plt = pyplot()
-    diameters = cell_diameters(mesh.points, mesh.cells, mesh.curves)
+    polygons = isinstance(mesh, PolygonMesh)
+    cells = mesh.polygon_cells() if polygons else mesh.cells
+    rings = np.split(cells.nodes, cells.offsets[1:-1]) if polygons else mesh.cells
+    diameters = cell_diameters(mesh.points, cells, mesh.curves)
     if field is not None:
-        centroids = cell_centroids(mesh.points, mesh.cells)
+        centroids = cell_centroids(mesh.points, cells)
         right_values = diameters / field(centroids)
         right_label = "diameter / size asked at the centroid"
         centre = 1.0
     else:
-        pairs = neighbour_ratios(mesh.cells, mesh.n_points, diameters)
+        pairs = neighbour_ratios(cells, mesh.n_points, diameters)
         right_values = np.ones(mesh.n_cells)
         for column in (0, 1):
             np.maximum.at(right_values, pairs[:, column].astype(np.int64), pairs[:, 2])
         right_label = "largest diameter ratio to a neighbour"
         centre = 1.5
+    means = _vertex_means(mesh.points, cells)
     order = np.argsort(right_values)[::-1][:worst]
     fig, (left, right) = plt.subplots(1, 2, figsize=(14, 6.5))
     big = mesh.n_cells > DRAW_LIMIT
@@ -503,9 +507,8 @@ def plot_sizes(mesh, path: str | Path, *, field=None, worst: int = 10) -> Path:
         if big:
             pixel = float(np.max(hi - lo)) / DENSITY_PIXELS
             shape = np.maximum(np.ceil((hi - lo) / pixel).astype(np.int64), 1)
-            centres = mesh.points[mesh.cells].mean(axis=1)
-            i = np.minimum(((centres[:, 0] - lo[0]) / pixel).astype(np.int64), shape[0] - 1)
-            j = np.minimum(((centres[:, 1] - lo[1]) / pixel).astype(np.int64), shape[1] - 1)
+            i = np.minimum(((means[:, 0] - lo[0]) / pixel).astype(np.int64), shape[0] - 1)
+            j = np.minimum(((means[:, 1] - lo[1]) / pixel).astype(np.int64), shape[1] - 1)
             picture = np.full(int(shape[0] * shape[1]), np.nan)
             np.fmax.at(picture, j * shape[0] + i, values)
             image = ax.imshow(
@@ -518,7 +521,7 @@ def plot_sizes(mesh, path: str | Path, *, field=None, worst: int = 10) -> Path:
             )
         else:
             image = PolyCollection(
-                mesh.points[mesh.cells],
+                [mesh.points[ring] for ring in rings],
                 array=values,
                 cmap=cmap,
                 norm=norm,
@@ -529,14 +532,17 @@ def plot_sizes(mesh, path: str | Path, *, field=None, worst: int = 10) -> Path:
         fig.colorbar(image, ax=ax, shrink=0.75, label=label)
     right.add_collection(
         PolyCollection(
-            mesh.points[mesh.cells[order]], facecolors="none", edgecolors="k", linewidths=1.5
+            [mesh.points[rings[c]] for c in order.tolist()],
+            facecolors="none",
+            edgecolors="k",
+            linewidths=1.5,
         )
     )
     for rank, c in enumerate(order.tolist()):
-        x, y = mesh.points[mesh.cells[c]].mean(axis=0)
+        x, y = means[c]
         right.annotate(str(rank + 1), (x, y), fontsize=7, ha="center", va="center")
     worst_cell = int(order[0]) if len(order) else 0
-    where = mesh.points[mesh.cells[worst_cell]].mean(axis=0) if mesh.n_cells else (0.0, 0.0)
+    where = means[worst_cell] if mesh.n_cells else (0.0, 0.0)
     _frame(left, mesh.points, f"cell diameters {diameters.min():.3g} .. {diameters.max():.3g}")
     _frame(
         right,
@@ -546,6 +552,16 @@ def plot_sizes(mesh, path: str | Path, *, field=None, worst: int = 10) -> Path:
     )
     fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: sizes of {mesh.n_cells:,} cells")
     return save_figure(fig, path)
+
+
+def _vertex_means(points: np.ndarray, cells) -> np.ndarray:
+    """The mean of every cell's vertices, (M, 2), for an (M, k) array or PolygonCells."""
+    if not isinstance(cells, PolygonCells):
+        return points[cells].mean(axis=1)
+    owner = cells.slot_cell()
+    sums = np.zeros((cells.n_cells, 2))
+    np.add.at(sums, owner, points[cells.nodes])
+    return sums / cells.sizes()[:, None]
 
 
 def _polygon_shapes(mesh: PolygonMesh) -> tuple[np.ndarray, np.ndarray]:

@@ -361,11 +361,8 @@ def _mesh_one(
     with _stage(progress, "measuring the cells", prediction) as tick:
         quality = mesh.quality(progress=tick)
         bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
-        sizes = (
-            size_report(mesh.points, mesh.cells, field, curves=mesh.curves)
-            if isinstance(mesh, Mesh)
-            else None
-        )
+        cells = mesh.cells if isinstance(mesh, Mesh) else mesh.polygon_cells()
+        sizes = size_report(mesh.points, cells, field, curves=mesh.curves)
     if options["numbering"] == "rcm" and isinstance(mesh, Mesh):
         with _stage(progress, "renumbering (reverse Cuthill-McKee)", prediction):
             mesh = mesh.with_rcm_numbering()
@@ -381,7 +378,7 @@ def _mesh_one(
         "boundary_edges": int(mesh.boundary_edges.shape[0]),
         "area": mesh.area,
         "quality": quality.as_dict(),
-        "sizes": None if sizes is None else sizes.as_dict(),
+        "sizes": sizes.as_dict(),
         "size_asked": options["size"] if field is not None else None,
         "bandwidth": bandwidth,
         "numbering": options["numbering"],

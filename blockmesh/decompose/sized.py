@@ -914,8 +914,6 @@ def sized_blocks(
     points, scale = _relax(points, chains.n, domain, length, chains.segments())
     free = points[chains.n :]
     optimised_once = False
-    ratio = np.zeros(1)
-    centroids = np.zeros((1, 2))
     for _ in range(_REPAIRS):
         # 5-6. Conforming triangles, pentagons, worst angles raised.
         local, triangles, region = _conforming(chains, free, frame)
@@ -929,10 +927,12 @@ def sized_blocks(
         nodes, folded = _bend(chains, frame, pieces, nodes, local, triangles)
         nodes, fixed, slide = _place_on_outline(outline, frame, nodes, chain_nodes, chain_params)
         blocks = pieces.blocks
-        asked = checked_sizes(field, frame.to_global(cell_centroids(nodes, blocks)))
+        centroids = frame.to_global(cell_centroids(nodes, blocks))
+        asked = checked_sizes(field, centroids)
         # Cells far too large before the optimiser are repaired first (the optimiser is the
         # expensive step; it shrinks cells by a few per cent, not by a fifth).
-        early = cell_diameters(nodes, blocks) * frame.scale / asked > _EARLY_REPAIR
+        ratio = cell_diameters(nodes, blocks) * frame.scale / asked
+        early = ratio > _EARLY_REPAIR
         if (early.any() or folded.size) and not optimised_once:
             too_large = early
         else:
@@ -968,8 +968,10 @@ def sized_blocks(
         k = int(np.argmax(ratio))
         raise DomainError(
             f"the size-driven decomposition could not bring every cell within {SIZE_TOLERANCE} "
-            f"times the size asked: cell near {fmt_point(centroids[k])} is "
-            f"{ratio[k]:.3g} times it; the domain may have features smaller than the sizes there"
+            f"times the size asked: the cell near {fmt_point(centroids[k])} is "
+            f"{ratio[k]:.3g} times the {checked_sizes(field, centroids[k : k + 1])[0]:.3g} "
+            "asked there; the domain may have features smaller than the sizes there, or the "
+            "sizes asked fall towards 0 there"
         )
     _check_convex(vertices, blocks, frame)
     triangle_of = pieces.piece

@@ -43,9 +43,9 @@ from blockmesh.decompose.sized import (
     arc_pieces,
     sized_blocks,
 )
-from blockmesh.errors import DomainError, ResourceError
+from blockmesh.errors import ArgumentError, DomainError, ResourceError, fmt_point
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
-from blockmesh.sizing.fields import Scaled, SizeField
+from blockmesh.sizing.fields import Scaled, SizeField, checked_sizes
 from blockmesh.sizing.predict import ideal_count
 from blockmesh.sizing.spec import SizeSpec, as_size_spec
 
@@ -64,6 +64,8 @@ BYTES_PER_BLOCK = 4608
 CURVE_CHECK_LEVELS = 3
 #: Points per curved edge when a patch's distance field or a region's polygon is drawn.
 _CURVE_SAMPLES = 32
+#: Points along the boundary (per the domain's width) where the field is checked first.
+_OUTLINE_SAMPLES = 1024
 
 
 @dataclass(frozen=True, eq=False)
@@ -325,11 +327,13 @@ def size_fits(field: SizeField, geometry: DomainGeometry, max_memory: int | None
     limit = available_memory() if max_memory is None else int(max_memory)
     fits = limit / (BYTES_PER_BLOCK * 1.5)
     polygon = geometry.polygon()
+    _check_outline(field, polygon)
     count = ideal_count(field, polygon, limit=2 * fits)
     if count.cells <= fits:
         return count.cells
     # Too many to count in full: count the field scaled up until it fits the budget, and scale
     # the count back (by the square of the factor, exact for a field scaled as a whole).
+    first = count
     factor = 1.0
     cells = count.cells
     while not count.complete and factor < 1e12:
@@ -337,6 +341,20 @@ def size_fits(field: SizeField, geometry: DomainGeometry, max_memory: int | None
         count = ideal_count(Scaled(field, factor), polygon, limit=2 * fits)
         cells = count.cells * factor**2
     scale = math.sqrt(cells / fits)
+    singular = not count.complete or cells < first.cells / 2
+    if not singular:
+        # The size named below must fit: a field whose count does not scale with it (one that
+        # falls towards 0 along a line or at a point) keeps asking for more at any scale.
+        singular = not ideal_count(Scaled(field, scale), polygon, limit=2 * fits).complete
+    if singular:
+        # The count of the field as asked grows without bound (the sizes fall towards 0
+        # somewhere in the domain): no scale fits.
+        where = fmt_point(first.finest) if first.finest is not None else "somewhere"
+        raise ArgumentError(
+            f"{field.label} gets ever smaller near {where} (down to {first.finest_size:.3g} "
+            "and still falling where the count stopped): a size must stay above some number > 0 "
+            "everywhere in the domain, or the mesh would need endlessly many cells"
+        )
     more = "" if count.complete else "at least "
     smallest = field.smallest
     hint = (
@@ -352,6 +370,25 @@ def size_fits(field: SizeField, geometry: DomainGeometry, max_memory: int | None
         f"{format_bytes(int(cells * 1.5 * BYTES_PER_BLOCK))}, more than {source} "
         f"({format_bytes(limit)}): {hint}"
     )
+
+
+def _check_outline(field: SizeField, polygon: Any) -> None:
+    """The field checked along the domain's boundary and at its own seeds inside the domain.
+
+    The count samples box centres, which never fall on the boundary: a field that is 0 (or not
+    finite) on the boundary, such as ``0.1*y`` on a domain whose edge is ``y = 0``, is found
+    here, at the point, before any counting.
+    """
+    import shapely
+
+    low_x, low_y, high_x, high_y = polygon.bounds
+    spacing = max(high_x - low_x, high_y - low_y) / _OUTLINE_SAMPLES
+    boundary = shapely.segmentize(polygon.boundary, spacing) if spacing > 0 else polygon.boundary
+    points = [shapely.get_coordinates(boundary)]
+    seeds = np.asarray(field.seeds(), dtype=np.float64).reshape(-1, 2)
+    if len(seeds):
+        points.append(seeds[shapely.intersects_xy(polygon, seeds[:, 0], seeds[:, 1])])
+    checked_sizes(field, np.vstack(points))
 
 
 # ---------------------------------------------------------------------------- the domain

@@ -27,9 +27,12 @@ import numpy as np
 
 from blockmesh.curves.edges import CurvedEdges, curved_slots
 from blockmesh.errors import fmt_point
-from blockmesh.geometry.topology import cell_neighbours
+from blockmesh.geometry.topology import PolygonCells, cell_neighbours
 from blockmesh.sizing.fields import SizeField, checked_sizes
-from blockmesh.sizing.predict import mesh_ideal_count
+from blockmesh.sizing.predict import _cell_groups, mesh_ideal_count
+
+#: Cells as an ``(M, k)`` array of node ids, or in compressed rows (any corner counts).
+Cells = np.ndarray | PolygonCells
 
 __all__ = ["SizeReport", "cell_centroids", "cell_diameters", "neighbour_ratios", "size_report"]
 
@@ -67,27 +70,32 @@ def _diameters(polygons: np.ndarray) -> np.ndarray:
 
 
 def cell_diameters(
-    points: np.ndarray, cells: np.ndarray, curves: CurvedEdges | None = None
+    points: np.ndarray, cells: Cells, curves: CurvedEdges | None = None
 ) -> np.ndarray:
     """Diameter of every cell: the largest distance between two of its corners or edge middles.
 
     Only curved edges' middles can be farther than the corners (a point of a straight edge is
     never farther from anything than both its ends), so only cells with a curved edge look at
-    them. O(M k^2), in chunks.
+    them. ``cells`` is an ``(M, k)`` array or :class:`~blockmesh.geometry.topology.PolygonCells`.
+    O(M k^2), in chunks.
     """
     points = np.asarray(points, dtype=np.float64)
-    cells = np.asarray(cells, dtype=np.int64)
-    out = np.empty(len(cells))
-    for start in range(0, len(cells), _CHUNK):
-        part = cells[start : start + _CHUNK]
-        out[start : start + len(part)] = _diameters(points[part])
-    bent, middles = _curved_middles(points, cells, curves)
-    if bent.size:
-        out[bent] = _diameters(np.concatenate([points[cells[bent]], middles], axis=1))
+    out = np.empty(_count(cells))
+    for index, group in _cell_groups(cells):
+        for start in range(0, len(group), _CHUNK):
+            part = group[start : start + _CHUNK]
+            out[index[start : start + len(part)]] = _diameters(points[part])
+        bent, middles = _curved_middles(points, group, curves)
+        if bent.size:
+            out[index[bent]] = _diameters(np.concatenate([points[group[bent]], middles], axis=1))
     return out
 
 
-def cell_centroids(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+def _count(cells: Cells) -> int:
+    return cells.n_cells if isinstance(cells, PolygonCells) else len(cells)
+
+
+def cell_centroids(points: np.ndarray, cells: Cells) -> np.ndarray:
     """Area centroid of every (straight) cell, (M, 2).
 
     Examples
@@ -95,27 +103,38 @@ def cell_centroids(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     >>> square = np.array([[0, 0], [2, 0], [2, 1], [2, 2], [0, 2]], dtype=float)
     >>> cell_centroids(square, np.array([[0, 1, 2, 3, 4]])).tolist()
     [[1.0, 1.0]]
+    >>> cell_centroids(square, PolygonCells.from_lists([[0, 1, 3, 4]])).tolist()
+    [[1.0, 1.0]]
     """
-    xy = np.asarray(points, dtype=np.float64)[np.asarray(cells)]
-    base = xy[:, :1]
-    u = xy - base
-    v = np.roll(u, -1, axis=1)
-    cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-    area = cross.sum(axis=1)
-    centre = np.sum((u + v) * cross[..., None], axis=1) / (3.0 * area[:, None])
-    return base[:, 0] + centre
+    points = np.asarray(points, dtype=np.float64)
+    out = np.empty((_count(cells), 2))
+    for index, group in _cell_groups(cells):
+        xy = points[group]
+        base = xy[:, :1]
+        u = xy - base
+        v = np.roll(u, -1, axis=1)
+        cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+        area = cross.sum(axis=1)
+        centre = np.sum((u + v) * cross[..., None], axis=1) / (3.0 * area[:, None])
+        out[index] = base[:, 0] + centre
+    return out
 
 
-def neighbour_ratios(cells: np.ndarray, n_points: int, sizes: np.ndarray) -> np.ndarray:
+def neighbour_ratios(cells: Cells, n_points: int, sizes: np.ndarray) -> np.ndarray:
     """For every edge shared by two cells, ``(cell, other, larger / smaller of their sizes)``.
 
     Returns an (E, 3) float array (cell ids as floats), one row per shared edge.
     """
-    neighbour = cell_neighbours(np.asarray(cells, dtype=np.int64), n_points)
-    k = neighbour.shape[1]
-    slot = np.flatnonzero(neighbour.ravel() >= 0)
-    cell = slot // k
-    other = neighbour.ravel()[slot] // k
+    if not isinstance(cells, PolygonCells):
+        cells = np.asarray(cells, dtype=np.int64)
+    neighbour = cell_neighbours(cells, n_points).ravel()
+    slot = np.flatnonzero(neighbour >= 0)
+    if isinstance(cells, PolygonCells):
+        owner = cells.slot_cell()
+        cell, other = owner[slot], owner[neighbour[slot]]
+    else:
+        k = cells.shape[1]
+        cell, other = slot // k, neighbour[slot] // k
     keep = cell < other
     cell, other = cell[keep], other[keep]
     a, b = sizes[cell], sizes[other]
@@ -200,17 +219,21 @@ class SizeReport:
 
 def size_report(
     points: np.ndarray,
-    cells: np.ndarray,
+    cells: Cells,
     field: SizeField | None = None,
     *,
     curves: CurvedEdges | None = None,
 ) -> SizeReport:
     """Measure a mesh's cell sizes, and against ``field`` when given (see the module notes).
 
-    O(M) time, memory in chunks for the diameters.
+    ``cells`` is an ``(M, k)`` array or :class:`~blockmesh.geometry.topology.PolygonCells` (a
+    polygon mesh's cells, whose hanging nodes are corners of the coarse cells). O(M) time,
+    memory in chunks for the diameters.
     """
     points = np.asarray(points, dtype=np.float64)
-    cells = np.asarray(cells, dtype=np.int64)
+    if not isinstance(cells, PolygonCells):
+        cells = np.asarray(cells, dtype=np.int64)
+    n_cells = _count(cells)
     diameters = cell_diameters(points, cells, curves)
     pairs = neighbour_ratios(cells, len(points), diameters)
     if len(pairs):
@@ -220,7 +243,7 @@ def size_report(
     else:
         neighbour, between = 1.0, (0, 0)
     report: dict[str, Any] = {}
-    if field is not None and len(cells):
+    if field is not None and n_cells:
         centroids = cell_centroids(points, cells)
         ratio = diameters / checked_sizes(field, centroids)
         worst = int(np.argmax(ratio))
@@ -232,9 +255,9 @@ def size_report(
             "ideal_cells": mesh_ideal_count(field, points, cells),
         }
     return SizeReport(
-        cells=len(cells),
-        min_diameter=float(diameters.min()) if len(cells) else 0.0,
-        max_diameter=float(diameters.max()) if len(cells) else 0.0,
+        cells=n_cells,
+        min_diameter=float(diameters.min()) if n_cells else 0.0,
+        max_diameter=float(diameters.max()) if n_cells else 0.0,
         neighbour_ratio=neighbour,
         neighbour_cells=between,
         **report,

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh.geometry.topology import PolygonCells
 from blockmesh.sizing.fields import PENTAGON_AREA, SizeField, checked_sizes
 
 __all__ = ["CellCount", "ideal_count", "mesh_ideal_count"]
@@ -51,6 +52,8 @@ class CellCount:
 
     cells: float
     complete: bool
+    finest: tuple[float, float] | None = None
+    finest_size: float = float("inf")
 
 
 def ideal_count(field: SizeField, polygon: Any, *, limit: float | None = None) -> CellCount:
@@ -67,6 +70,8 @@ def ideal_count(field: SizeField, polygon: Any, *, limit: float | None = None) -
     Returns
     -------
     CellCount
+        With the centre of the smallest box counted and the size there (where the field is
+        smallest, as far as the count went).
     """
     import shapely
 
@@ -75,6 +80,8 @@ def ideal_count(field: SizeField, polygon: Any, *, limit: float | None = None) -
     width = max(high_x - low_x, high_y - low_y)
     if not width > 0:
         return CellCount(0.0, True)
+    finest: tuple[float, float] | None = None
+    finest_size = float("inf")
     # Start with an 8 x 8 grid of boxes over the bounding square.
     k = np.arange(8) + 0.5
     cx, cy = np.meshgrid(low_x + k * width / 8, low_y + k * width / 8)
@@ -89,26 +96,46 @@ def ideal_count(field: SizeField, polygon: Any, *, limit: float | None = None) -
             if not len(batch):
                 continue
             sizes = checked_sizes(field, batch)
+            least = int(np.argmin(sizes))
+            if sizes[least] < finest_size:
+                finest = (float(batch[least, 0]), float(batch[least, 1]))
+                finest_size = float(sizes[least])
             coarse = w > sizes
             fine = batch[~coarse]
             inside = shapely.intersects_xy(polygon, fine[:, 0], fine[:, 1])
             total += float(np.sum(w * w / (PENTAGON_AREA * sizes[~coarse][inside] ** 2)))
             if limit is not None and total > limit:
-                return CellCount(total, False)
+                return CellCount(total, False, finest, finest_size)
             split = batch[coarse]
             if len(split):
                 quarter = w / 4
                 offsets = np.array([[-1, -1], [1, -1], [-1, 1], [1, 1]]) * quarter
                 pending.append(((split[:, None, :] + offsets).reshape(-1, 2), w / 2))
-    return CellCount(total, True)
+    return CellCount(total, True, finest, finest_size)
 
 
-def mesh_ideal_count(field: SizeField, points: np.ndarray, cells: np.ndarray) -> float:
-    """The ideal count integrated over a mesh's own cells (five triangles each, midpoint rule).
+def _cell_groups(cells: np.ndarray | PolygonCells) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The cells by corner count: ``(index, (M_n, n) node ids)`` pairs (one for an array)."""
+    if not isinstance(cells, PolygonCells):
+        array = np.asarray(cells, dtype=np.int64)
+        return [(np.arange(len(array)), array)]
+    sizes = cells.sizes()
+    out = []
+    for n in np.unique(sizes).tolist():
+        index = np.flatnonzero(sizes == n)
+        out.append((index, cells.nodes[cells.offsets[index][:, None] + np.arange(n)]))
+    return out
 
-    Each cell is split into the triangles from its vertex mean to its edges, and each triangle
-    adds its area over ``a h^2`` at its centroid: accurate once the cells resolve the field,
-    as a mesh made for it does.
+
+def mesh_ideal_count(
+    field: SizeField, points: np.ndarray, cells: np.ndarray | PolygonCells
+) -> float:
+    """The ideal count integrated over a mesh's own cells (a triangle per edge, midpoint rule).
+
+    ``cells`` is an ``(M, k)`` array or :class:`~blockmesh.geometry.topology.PolygonCells`
+    (cells of any corner counts). Each cell is split into the triangles from its vertex mean to
+    its edges, and each triangle adds its area over ``a h^2`` at its centroid: accurate once
+    the cells resolve the field, as a mesh made for it does.
 
     Examples
     --------
@@ -117,11 +144,15 @@ def mesh_ideal_count(field: SizeField, points: np.ndarray, cells: np.ndarray) ->
     >>> round(mesh_ideal_count(Constant(0.5), square, np.array([[0, 1, 2, 3, 4]])), 4)
     6.0864
     """
-    xy = np.asarray(points, dtype=np.float64)[np.asarray(cells)]
-    centre = xy.mean(axis=1, keepdims=True)
-    ahead = np.roll(xy, -1, axis=1)
-    u, v = xy - centre, ahead - centre
-    area = 0.5 * (u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
-    middle = ((xy + ahead + centre) / 3).reshape(-1, 2)
-    sizes = checked_sizes(field, middle).reshape(area.shape)
-    return float(np.sum(area / (PENTAGON_AREA * sizes**2)))
+    points = np.asarray(points, dtype=np.float64)
+    total = 0.0
+    for _, group in _cell_groups(cells):
+        xy = points[group]
+        centre = xy.mean(axis=1, keepdims=True)
+        ahead = np.roll(xy, -1, axis=1)
+        u, v = xy - centre, ahead - centre
+        area = 0.5 * (u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
+        middle = ((xy + ahead + centre) / 3).reshape(-1, 2)
+        sizes = checked_sizes(field, middle).reshape(area.shape)
+        total += float(np.sum(area / (PENTAGON_AREA * sizes**2)))
+    return total

@@ -93,3 +93,22 @@ def test_solve_on_sized_cells(capsys):
     )  # fmt: skip
     assert code == 0, err
     assert "on level 0" in out and "errors against" in out
+
+
+def test_sized_then_refined_locally_reports_its_sizes(capsys, tmp_path):
+    # --size with --refine-near makes a polygon mesh (hanging nodes): its size report and
+    # picture cover every cell, the refined ones smaller than the size asked.
+    picture = tmp_path / "sizes.png"
+    code, out, _ = run_cli(
+        capsys, "mesh", "plate-hole", "--size", "0.4", "--refine-near", "hole:0.3",
+        "--size-plot", str(picture), "--json",
+    )  # fmt: skip
+    assert code == 0
+    report = json.loads(out)
+    sizes = report["sizes"]
+    assert report["local_refinement"]["hanging_nodes"] > 0
+    assert sizes["cells"] == report["cells"]
+    assert sizes["worst_ratio"] <= SIZE_TOLERANCE
+    assert sizes["mean_ratio"] < 1.0
+    assert sizes["count_ratio"] > 1.0  # the refined cells are smaller than asked
+    assert picture.stat().st_size > 0

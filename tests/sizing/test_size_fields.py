@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -98,8 +99,32 @@ def test_bad_expression_is_located():
 
 def test_bad_callable_is_located():
     square = blockmesh.load_domain("square")
-    with pytest.raises(ArgumentError, match=r"size function <lambda> gives -0.9375 at \(0.0625"):
+    pattern = r"size function <lambda> gives (\S+) at \((\S+), (\S+)\);"
+    with pytest.raises(ArgumentError, match=pattern) as info:
         square.with_size(lambda x, y: x - 1)
+    value, x, y = (float(v) for v in re.search(pattern, str(info.value)).groups())
+    assert value == pytest.approx(x - 1) and value <= 0
+    assert shapely.box(0, 0, 1, 1).buffer(1e-9).contains(shapely.Point(x, y))
+
+
+def test_size_zero_on_the_boundary_is_located():
+    # Box centres never fall on the boundary: the boundary is checked on its own.
+    square = blockmesh.load_domain("square")
+    with pytest.raises(ExpressionError, match=r"'0.1\*y' gives 0.0 at \(\S+, 0\)"):
+        square.with_size("0.1*y")
+
+
+def test_size_falling_to_zero_inside_is_refused_not_scaled():
+    # Zero along a line that no sample hits: no scale of the field fits, so the guard says
+    # where the sizes fall instead of naming a size that would not fit either.
+    from blockmesh.domain.sized import DomainGeometry, size_fits
+
+    square = blockmesh.load_domain("square")
+    field = Expression("0.1*abs(x - 0.30017)")
+    pattern = r"gets ever smaller near \(([^,]+), "
+    with pytest.raises(ArgumentError, match=pattern) as info:
+        size_fits(field, DomainGeometry(square), 2**20)
+    assert float(re.search(pattern, str(info.value)).group(1)) == pytest.approx(0.30017, abs=0.01)
 
 
 def test_unknown_patch_and_region_name_the_known_ones():
