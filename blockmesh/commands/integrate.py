@@ -10,7 +10,14 @@ from fractions import Fraction
 from typing import Any
 
 from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
-from blockmesh.commands.common import add_domain_arguments, print_json, printable, resolve_target
+from blockmesh.commands.common import (
+    add_domain_arguments,
+    levels_to_add,
+    print_json,
+    printable,
+    resolve_target,
+)
+from blockmesh.commands.options import add_json_option, add_level_option, add_renamed_flag
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -36,8 +43,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Integrate a function of x and y over the domain's pentagon mesh at a level, "
         "with the paper's composite Gauss-Legendre rule (or a cheaper one), or to a tolerance "
         "(--tol picks the order and level). Every result comes with an error estimate, and a "
-        "warning when it is large (a singular, divergent or unresolved integrand). --exact adds "
-        "the exact integral of a polynomial.",
+        "warning when it is large (a singular, divergent or unresolved integrand). "
+        "--exact-integral adds the exact integral of a polynomial.",
         epilog='example: blockmesh integrate sp --function "(x^4 + y^3)/(1 + x^2)" --level 3',
     )
     add_domain_arguments(parser)
@@ -49,13 +56,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="f(x, y): numbers, x, y, pi, e, + - * / ^ (or **), and sin cos tan exp log sqrt abs "
         "... (see blockmesh.numerics.expr.FUNCTIONS)",
     )
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        metavar="L",
-        help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
-        "own level; with --tol: the starting level, default 0)",
+    add_level_option(
+        parser,
+        f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}; a mesh file keeps "
+        "its own level, and L more levels refine it further; with --tol: the starting level, "
+        "default 0)",
     )
     parser.add_argument(
         "--order",
@@ -70,10 +75,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="paper: the paper's rule (default); jacobi, fan: fewer points, same degree "
         "(jacobi is the default with --tol)",
     )
-    parser.add_argument(
+    add_renamed_flag(
+        parser,
+        "--exact-integral",
         "--exact",
-        action="store_true",
-        help="also the exact integral over the domain (polynomials only), as a fraction",
+        dest="exact",
+        help="also the exact integral over the domain (polynomials only), as a fraction "
+        "(--exact is the earlier spelling)",
     )
     parser.add_argument(
         "--exact-geometry",
@@ -98,7 +106,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "requests are refused before any work",
     )
     add_partition_arguments(parser, "integrate")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -129,7 +137,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 args.function,
                 args.tol,
                 rule=args.rule or "jacobi",
-                level=args.level,
+                level=None if args.level is None else _level(args, target),
                 start_order=args.order or 2,
                 max_level=args.max_level,
                 exact_geometry=args.exact_geometry,
@@ -164,11 +172,18 @@ def _has_curves(target: Any) -> bool:
     return curves is not None and len(curves) > 0
 
 
-def _level(args: argparse.Namespace, target: Any) -> int | None:
-    """The level asked for; by default 2 for a domain, and a mesh file's own level."""
-    if args.level is not None:
-        return int(args.level)
-    return None if isinstance(target, Mesh | PolygonMesh) else _DEFAULT_LEVEL
+def _level(args: argparse.Namespace, target: Any) -> int:
+    """The level to integrate at: ``--level`` (default 2), or a mesh file's own plus ``--level``.
+
+    A mesh file's levels are counted as ``blockmesh mesh`` and ``solve`` count them.
+    """
+    steps = levels_to_add(args.level, target, _DEFAULT_LEVEL)
+    if isinstance(target, PolygonMesh) and steps:
+        raise BlockMeshError(
+            f"--level {steps}: a locally refined mesh (polygon cells) is integrated on its own "
+            "cells; leave --level out, or refine it further with blockmesh mesh FILE --refine-..."
+        )
+    return target.level + steps if isinstance(target, Mesh | PolygonMesh) else steps
 
 
 def run(args: argparse.Namespace) -> int:

@@ -31,16 +31,22 @@ from blockmesh.commands.common import (
     levels_to_add,
     load_target,
     parse_patch_options,
-    parse_size,
     print_json,
     printable,
+)
+from blockmesh.commands.options import (
+    add_json_option,
+    add_level_option,
+    add_max_memory_option,
+    add_placement_options,
+    add_plot_option,
 )
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, ResourceError
 from blockmesh.io import SPLITS, check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
-from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.improve import refine_with_rule
 from blockmesh.refinement.local import SCHEMES, predict_local_size, refine_locally
 from blockmesh.refinement.marking import (
     Marking,
@@ -70,12 +76,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "pentagons. Prints counts and quality; draws and writes the mesh on request.",
     )
     add_domain_arguments(parser, many=True)
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+    add_level_option(
+        parser,
+        f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file keeps its own level, and L more levels refine it further; with --size, or "
         "a domain file with a [size] table, 0 unless given)",
     )
@@ -110,18 +113,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default="nested",
         help="node numbering: the paper's nested one (default) or reverse Cuthill-McKee",
     )
-    parser.add_argument(
-        "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (default 0)"
-    )
-    parser.add_argument(
-        "--quality-rule",
-        choices=QUALITY_RULES,
-        default="paper",
-        help="node placement: the paper's (default); optimized after every level, cell sizes "
-        "made uniform; or angles: optimized after every level against the worst corners, cells "
-        "keeping their sizes (for decomposed, graded domains). Every node off the boundary moves, "
-        "boundary nodes slide along it; see blockmesh.refinement.improve",
-    )
+    add_placement_options(parser, "the mesh")
     parser.add_argument(
         "-o",
         "--output",
@@ -186,7 +178,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="K",
         help="rounds of local refinement (default 1)",
     )
-    parser.add_argument("--plot", metavar="PNG", help="draw the mesh")
+    add_plot_option(parser, "the mesh")
     parser.add_argument(
         "--quality-plot", metavar="PNG", help="histograms of angles and aspect ratios"
     )
@@ -196,16 +188,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="draw the cell sizes: diameters, and diameter over the size asked (or over the "
         "neighbours') with the worst cells outlined",
     )
-    parser.add_argument(
-        "--max-memory",
-        type=parse_size,
-        metavar="SIZE",
-        help="refuse meshes predicted to need more memory (e.g. 4G; default: what is available)",
-    )
+    add_max_memory_option(parser, "meshes")
     add_partition_arguments(
         parser, "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
     )
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -383,7 +370,8 @@ def _mesh_one(
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
-        "quality_rule": options["quality_rule"],
+        "placement": options["quality_rule"],
+        "quality_rule": options["quality_rule"],  # the earlier key, kept
         "seconds": seconds,
         "predicted_peak_bytes": prediction.peak_bytes,
         "plot": None,

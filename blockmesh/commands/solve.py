@@ -7,6 +7,11 @@ prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` 
 (the traction); other patches are natural (zero flux, traction-free). PATCH may be a comma list
 of patches, or ``*``: every patch the other options do not name.
 
+On a composite domain the coefficients and the source may differ by region: ``--diffusion
+fibre=10 --diffusion matrix=1`` (likewise ``--reaction``, ``--young``, ``--poisson-ratio``,
+``--source``); a bare value means every region not named. Across an interface u and the flux are
+continuous (the natural conditions); a condition on an interface is refused.
+
 ``--adapt`` solves adaptively instead (:mod:`blockmesh.commands.solve_adaptive`): estimate,
 mark, refine the marked cells locally, repeat until ``--tol`` or ``--max-unknowns``.
 """
@@ -25,16 +30,23 @@ from blockmesh.commands.common import (
     add_domain_arguments,
     check_folders,
     levels_to_add,
-    parse_size,
     print_json,
     resolve_target,
+)
+from blockmesh.commands.options import (
+    RenamedOption,
+    add_json_option,
+    add_level_option,
+    add_max_memory_option,
+    add_placement_options,
+    add_plot_option,
 )
 from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
-from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.improve import refine_with_rule
 from blockmesh.refinement.sizes import MemoryPrediction, check_fits, solve_command_predictor
 from blockmesh.sizing.spec import as_size_spec
 from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
@@ -56,20 +68,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="solve a Poisson or elasticity problem on the mesh (virtual elements)",
         description="Solve a diffusion-reaction (Poisson) or plane elasticity problem on "
         "DOMAIN's pentagon mesh at LEVEL with lowest-order virtual elements; report unknowns, "
-        "cost and, with --exact, the errors; write the solution for ParaView. DOMAIN may be a "
+        "cost and, with --exact-solution, the errors; write the solution for ParaView. DOMAIN "
+        "may be a "
         "mesh file: the problem is solved on the mesh read, refined further by --level if given. "
         "The memory the solve needs (the direct solver's factorisation above all) is predicted "
         "first: a problem that does not fit is refused, naming the largest level that does.",
         epilog='example: blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
-        "--dirichlet '*=0' --exact \"sin(pi*x)*sin(pi*y)\"",
+        "--dirichlet '*=0' --exact-solution \"sin(pi*x)*sin(pi*y)\"",
     )
     add_domain_arguments(parser)
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+    add_level_option(
+        parser,
+        f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file is solved on at its own level, refined further by --level if given; with "
         "--adapt the starting level, default 0; with --size, or a domain file with a [size] "
         "table, 0 unless given)",
@@ -85,8 +95,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
         "--source",
-        metavar="EXPR",
-        help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0)",
+        action="append",
+        default=[],
+        metavar="[REGION=]EXPR",
+        help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0); "
+        "REGION=... for one region (repeatable)",
     )
     parser.add_argument(
         "--dirichlet",
@@ -94,8 +107,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default=[],
         metavar="PATCH=EXPR",
         help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be "
-        "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every patch no "
-        "other --dirichlet or --neumann names)",
+        "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every boundary "
+        "patch no other --dirichlet or --neumann names)",
     )
     parser.add_argument(
         "--neumann",
@@ -106,14 +119,27 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "PATCH as for --dirichlet (a comma list, or *)",
     )
     parser.add_argument(
-        "--exact", metavar="EXPR", help="exact solution ('UX, UY' for elasticity): report errors"
+        "--exact-solution",
+        "--exact",
+        dest="exact",
+        metavar="EXPR",
+        action=RenamedOption,
+        help="the exact solution ('UX, UY' for elasticity): report the errors against it "
+        "(--exact is the earlier spelling)",
     )
-    parser.add_argument("--diffusion", default="1", metavar="EXPR", help="kappa(x, y) (1)")
-    parser.add_argument("--reaction", default="0", metavar="EXPR", help="c(x, y) (0)")
-    parser.add_argument("--young", type=float, default=1.0, metavar="E", help="elasticity: E (1)")
-    parser.add_argument(
-        "--poisson-ratio", type=float, default=0.3, metavar="NU", help="elasticity: nu (0.3)"
-    )
+    for flag, metavar, text in (
+        ("--diffusion", "[REGION=]EXPR", "kappa(x, y) (1)"),
+        ("--reaction", "[REGION=]EXPR", "c(x, y) (0)"),
+        ("--young", "[REGION=]E", "elasticity: E (1)"),
+        ("--poisson-ratio", "[REGION=]NU", "elasticity: nu (0.3)"),
+    ):
+        parser.add_argument(
+            flag,
+            action="append",
+            default=[],
+            metavar=metavar,
+            help=f"{text}; REGION=... for one region of a composite domain (repeatable)",
+        )
     parser.add_argument(
         "--plane", choices=("stress", "strain"), default="stress", help="elasticity: the model"
     )
@@ -122,16 +148,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         choices=("mean", "rigid"),
         help="pure Neumann problems: zero mean (poisson) or no rigid motion (elasticity)",
     )
-    parser.add_argument(
-        "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (0)"
-    )
-    parser.add_argument(
-        "--quality-rule",
-        choices=QUALITY_RULES,
-        default="paper",
-        help="node placement of the mesh: the paper's (default), or optimized or angles after "
-        "every level (see blockmesh mesh --help)",
-    )
+    add_placement_options(parser, "the mesh")
     parser.add_argument(
         "--order", type=int, default=3, metavar="N", help="quadrature order of the loads (3)"
     )
@@ -150,18 +167,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="linear solver: direct (sparse LU; its memory grows as n log n) or amg (algebraic "
         "multigrid, for large problems; needs pyamg)",
     )
-    parser.add_argument(
-        "--max-memory",
-        type=parse_size,
-        metavar="SIZE",
-        help="refuse problems predicted to need more memory (e.g. 4G; default: what is available)",
-    )
+    add_max_memory_option(parser, "problems")
     parser.add_argument(
         "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
     )
-    parser.add_argument("--plot", metavar="PNG", help="draw the solution")
+    add_plot_option(parser, "the solution")
     add_adaptive_arguments(parser)
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -187,11 +199,14 @@ def _conditions(args: argparse.Namespace) -> list[Condition]:
 
 
 def _patch_values(
-    conditions: list[Condition], patch_names: tuple[str, ...]
+    conditions: list[Condition],
+    patch_names: tuple[str, ...],
+    interface_names: tuple[str, ...] = (),
 ) -> tuple[dict[str, str], dict[str, str]]:
     """The Dirichlet and Neumann values by patch: lists split, ``*`` given the patches left.
 
     A name that is a patch of the mesh is taken whole (commas and all); otherwise a comma list.
+    ``*`` stands for boundary patches only; an interface named is refused (SolverError).
     """
     values: dict[str, dict[str, str]] = {"--dirichlet": {}, "--neumann": {}}
     seen: dict[str, str] = {}
@@ -205,10 +220,18 @@ def _patch_values(
                 )
             star = (flag, item, patch, expression)
             continue
-        names = [patch] if patch in patch_names else [n.strip() for n in str(patch).split(",")]
+        whole = patch in patch_names or patch in interface_names
+        names = [patch] if whole else [n.strip() for n in str(patch).split(",")]
         for name in names:
             if not name:
                 raise BlockMeshError(f"{flag} {item!r}: an empty patch name in the list")
+            if name in interface_names and name not in patch_names:
+                raise SolverError(
+                    f"{flag} {item!r}: {name!r} is an interface (an internal patch between two "
+                    "regions), not a boundary patch; across an interface u and the flux are "
+                    "continuous by themselves. Give conditions on the boundary patches: "
+                    f"{', '.join(patch_names)}"
+                )
             if name not in patch_names:
                 raise BlockMeshError(
                     f"{flag} {item!r}: no patch {name!r}; the patches are {', '.join(patch_names)}"
@@ -225,6 +248,62 @@ def _patch_values(
             if name not in seen:
                 values[star[0]][name] = star[3]
     return values["--dirichlet"], values["--neumann"]
+
+
+#: The value of a per-region option given for no region (and never given).
+_DEFAULTS = {"--diffusion": "1", "--reaction": "0", "--young": "1", "--poisson-ratio": "0.3"}
+_REGION_ITEM = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.\-]*)\s*=(.*)$")
+
+
+def region_option(items: list[str], flag: str, default: str | None) -> Any:
+    """A per-region option's value: one text, or a mapping region -> text (``"*"``: the rest).
+
+    ``NAME=VALUE`` gives one region's value, a bare ``VALUE`` every region not named.
+
+    Examples
+    --------
+    >>> region_option(["fibre=10", "1"], "--diffusion", "1")
+    {'fibre': '10', '*': '1'}
+    >>> region_option([], "--diffusion", "1")
+    '1'
+    """
+    bare: str | None = None
+    named: dict[str, str] = {}
+    for item in items:
+        match = _REGION_ITEM.match(item)
+        if match is None:
+            if bare is not None:
+                raise BlockMeshError(
+                    f"{flag} is given twice for every region ({bare!r} and {item!r}); give one "
+                    f"value, and REGION=VALUE for the regions that differ"
+                )
+            bare = item.strip()
+            continue
+        region, value = match.group(1), match.group(2).strip()
+        if not value:
+            raise BlockMeshError(f"{flag} {item!r}: write REGION=VALUE, e.g. {flag} fibre=10")
+        if region in named:
+            raise BlockMeshError(f"{flag} gives the region {region!r} twice; give it once")
+        named[region] = value
+    if not named:
+        return bare if bare is not None else default
+    if bare is not None or default is not None:
+        named["*"] = bare if bare is not None else default  # type: ignore[assignment]
+    return named
+
+
+def _numbers(value: Any, flag: str) -> Any:
+    """A per-region option's texts as numbers (``--young``, ``--poisson-ratio``)."""
+
+    def number(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            raise BlockMeshError(f"{flag} takes numbers, got {text!r}") from None
+
+    if isinstance(value, dict):
+        return {region: number(text) for region, text in value.items()}
+    return number(value)
 
 
 def _check(args: argparse.Namespace) -> None:
@@ -251,6 +330,7 @@ def _check(args: argparse.Namespace) -> None:
 
 
 def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
+    source = region_option(args.source, "--source", None)
     common: dict[str, Any] = {
         "order": args.order,
         "stabilization_scale": args.stabilization_scale,
@@ -262,19 +342,21 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
     if args.equation == "poisson":
         return solve_poisson(
             mesh,
-            args.source or "0",
-            diffusion=args.diffusion,
-            reaction=args.reaction,
+            source if source is not None else "0",
+            diffusion=region_option(args.diffusion, "--diffusion", _DEFAULTS["--diffusion"]),
+            reaction=region_option(args.reaction, "--reaction", _DEFAULTS["--reaction"]),
             dirichlet=dirichlet,
             neumann=neumann,
             **common,
         )
+    young = region_option(args.young, "--young", _DEFAULTS["--young"])
+    ratio = region_option(args.poisson_ratio, "--poisson-ratio", _DEFAULTS["--poisson-ratio"])
     return solve_elasticity(
         mesh,
-        young=args.young,
-        poisson=args.poisson_ratio,
+        young=_numbers(young, "--young"),
+        poisson=_numbers(ratio, "--poisson-ratio"),
         plane=args.plane,
-        source=args.source or "0, 0",
+        source=source if source is not None else "0, 0",
         dirichlet=dirichlet,
         neumann=neumann,
         **common,
@@ -331,7 +413,7 @@ def run(args: argparse.Namespace) -> int:
     _check(args)
     conditions = _conditions(args)
     domain = _sized(resolve_target(args), args.size)
-    dirichlet, neumann = _patch_values(conditions, domain.patch_names)
+    dirichlet, neumann = _patch_values(conditions, domain.patch_names, domain.interface_names)
     if args.adapt:
         start = levels_to_add(args.level, domain, 0)
         mesh = refine_with_rule(
@@ -355,7 +437,8 @@ def run(args: argparse.Namespace) -> int:
         "domain": domain.name,
         "equation": args.equation,
         "level": mesh.level,
-        "quality_rule": args.quality_rule,
+        "placement": args.quality_rule,
+        "quality_rule": args.quality_rule,  # the earlier key, kept
         "cells": mesh.n_cells,
         "nodes": mesh.n_points,
         "dof": info.dof,

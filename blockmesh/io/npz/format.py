@@ -2,7 +2,8 @@
 
 The archive holds ``points, cells, block_id, parent, boundary_edges, boundary_patch, region`` as
 they are, ``patch_names`` and ``region_names`` as unicode arrays, ``level``, ``name`` and
-``format_version``, and for a mesh with curved edges the arrays of
+``format_version``, for a composite domain ``interface_edges``, ``interface_patch`` and
+``interface_names``, and for a mesh with curved edges the arrays of
 :data:`~blockmesh.io._common.CURVE_ARRAYS` (so that refining the mesh read back follows the
 curves); nothing needs pickling (it is read with ``allow_pickle=False``).
 ``compression="zlib"`` uses :func:`numpy.savez_compressed`; the default ``"none"`` is
@@ -60,6 +61,10 @@ def write_npz(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none"
     arrays["level"] = np.array(mesh.level, dtype=np.int64)
     arrays["name"] = np.array(mesh.name, dtype=str)
     arrays["format_version"] = np.array(_VERSION, dtype=np.int64)
+    if mesh.interface_names:
+        arrays["interface_edges"] = mesh.interface_edges
+        arrays["interface_patch"] = mesh.interface_patch
+        arrays["interface_names"] = np.array(mesh.interface_names, dtype=str)
     arrays.update(curve_arrays(mesh))
     save = np.savez_compressed if compression == "zlib" else np.savez
     with atomic_file(path) as tmp, open(tmp, "wb") as f:
@@ -115,6 +120,13 @@ def read_npz(path: Path) -> Mesh | PolygonMesh:
         boundary_edges=arrays["boundary_edges"],
         boundary_patch=arrays["boundary_patch"],
         patch_names=[str(s) for s in arrays["patch_names"].tolist()],
+        interface_edges=arrays.get("interface_edges"),
+        interface_patch=arrays.get("interface_patch"),
+        interface_names=(
+            [str(s) for s in arrays["interface_names"].tolist()]
+            if "interface_names" in arrays
+            else None
+        ),
         level=int(arrays.get("level", 0)),
         name=str(arrays.get("name", "")),
         curves=curves_from_arrays(arrays, where),

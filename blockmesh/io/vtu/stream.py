@@ -64,7 +64,7 @@ _COMPRESSORS: dict[str | None, Callable[[bytes], bytes] | None] = {
     "vtkLZMADataCompressor": lzma.decompress,
 }
 _POLYGON, _LINE = 7, 3  # VTK cell types
-_CELL_DATA = ("block_id", "region", "parent", "patch")
+_CELL_DATA = ("block_id", "region", "parent", "patch", "interface")
 _ATTR = re.compile(rb'([A-Za-z_:][\w:.-]*)\s*=\s*"([^"]*)"')
 
 
