@@ -130,6 +130,7 @@ class _Edge:
     patch: int  # -1 on an interface
     curve: Curve | None  # from a to b, bound
     source: tuple[int, int]
+    interface: int = -1  # index into the domain's interface_names, or -1
 
 
 def _curve_from(domain: Domain, a: int, b: int) -> Curve | None:
@@ -181,13 +182,22 @@ def _outline_edges(domain: Domain) -> tuple[list[_Edge], np.ndarray]:
             _Edge(a, b, int(domain.region[owner]), -1, int(domain.boundary_patch[row]),
                   _curve_from(domain, a, b), (int(source[row, 0]), int(source[row, 1])))
         )  # fmt: skip
+    # Named interfaces as the domain orients them (the first side's block on the left).
+    named = {
+        (int(a), int(b)): int(i)
+        for (a, b), i in zip(domain.interface_edges.tolist(), domain.interface_patch.tolist(),
+                             strict=True)
+    }  # fmt: skip
     for (a, b), k in block_of_edge.items():
         other = block_of_edge.get((b, a))
-        if other is None or domain.region[k] == domain.region[other] or a > b:
+        if other is None:
+            continue
+        interface = named.get((a, b), -1)
+        if interface < 0 and ((b, a) in named or domain.region[k] == domain.region[other] or a > b):
             continue
         edges.append(
             _Edge(a, b, int(domain.region[k]), int(domain.region[other]), -1,
-                  _curve_from(domain, a, b), (-1, -1))
+                  _curve_from(domain, a, b), (-1, -1), interface)
         )  # fmt: skip
     return _split_polylines(domain, edges)
 
@@ -207,7 +217,7 @@ def _split_polylines(domain: Domain, edges: list[_Edge]) -> tuple[list[_Edge], n
             ids.append(n + len(extra) - 1)
         ids.append(e.b)
         for p, q in itertools.pairwise(ids):
-            out.append(_Edge(p, q, e.left, e.right, e.patch, None, e.source))
+            out.append(_Edge(p, q, e.left, e.right, e.patch, None, e.source, e.interface))
     return out, np.array(extra).reshape(-1, 2)
 
 
@@ -219,11 +229,14 @@ def _same_circle(one: Curve | None, two: Curve | None) -> bool:
     return bool(np.hypot(*(c1 - c2)) <= 1e-9 * r and abs(one.radius - two.radius) <= 1e-9 * r)
 
 
-def _outline(domain: Domain) -> tuple[Outline, np.ndarray, list[tuple[int, int]]]:
+def _outline(
+    domain: Domain,
+) -> tuple[Outline, np.ndarray, list[tuple[int, int]], np.ndarray]:
     """The domain's outline: chains between corners; each chain's patch and polygon edge.
 
-    Returns ``(outline, chain_patch, chain_source)``: the patch index of each chain (-1 for an
-    interface) and its ``(ring, edge)`` source (``(-1, -1)`` when not known).
+    Returns ``(outline, chain_patch, chain_source, chain_interface)``: the patch index of each
+    chain (-1 for an interface), its ``(ring, edge)`` source (``(-1, -1)`` when not known) and
+    its named interface (an index into ``domain.interface_names``, -1 for none).
     """
     edges, extra = _outline_edges(domain)
     points = np.vstack([domain.vertices, extra])
@@ -235,8 +248,8 @@ def _outline(domain: Domain) -> tuple[Outline, np.ndarray, list[tuple[int, int]]
 
     def joins(first: _Edge, second: _Edge) -> bool:
         """Whether the two edges, meeting at a vertex of nothing else, are one chain."""
-        same = (first.left, first.right, first.patch, first.source) == (
-            second.left, second.right, second.patch, second.source)  # fmt: skip
+        same = (first.left, first.right, first.patch, first.source, first.interface) == (
+            second.left, second.right, second.patch, second.source, second.interface)  # fmt: skip
         if not same:
             return False
         if first.curve is None and second.curve is None:
@@ -287,7 +300,7 @@ def _outline(domain: Domain) -> tuple[Outline, np.ndarray, list[tuple[int, int]]
             cut.append(run)
     corner_ids = sorted({edges[run[0]].a for run in cut} | {edges[run[-1]].b for run in cut})
     index = {v: i for i, v in enumerate(corner_ids)}
-    chains, left, right, patch, sources = [], [], [], [], []
+    chains, left, right, patch, sources, interface = [], [], [], [], [], []
     curves: list[ChainCurve | None] = []
     for run in cut:
         first, last = edges[run[0]], edges[run[-1]]
@@ -296,6 +309,7 @@ def _outline(domain: Domain) -> tuple[Outline, np.ndarray, list[tuple[int, int]]
         right.append(first.right)
         patch.append(first.patch)
         sources.append(first.source)
+        interface.append(first.interface)
         if first.curve is None:
             curves.append(None)
         elif len(run) == 1:
@@ -313,7 +327,7 @@ def _outline(domain: Domain) -> tuple[Outline, np.ndarray, list[tuple[int, int]]
         left=np.array(left, dtype=np.int64),
         right=np.array(right, dtype=np.int64),
     )
-    return outline, np.array(patch, dtype=np.int64), sources
+    return outline, np.array(patch, dtype=np.int64), sources, np.array(interface, np.int64)
 
 
 # ---------------------------------------------------------------------------- the guard
@@ -424,14 +438,17 @@ def resized(
     geometry = DomainGeometry(domain)
     field = spec.field(geometry)
     size_fits(field, geometry, max_memory)
-    outline, chain_patch, chain_source = _outline(domain)
+    outline, chain_patch, chain_source, chain_interface = _outline(domain)
     rate = spec.gradation if gradation is None else gradation
     made = sized_blocks(outline, field, gradation=rate)
     patches: dict[str, list[tuple[int, int]]] = {name: [] for name in domain.patch_names}
     boundary_source: dict[tuple[int, int], tuple[int, int]] = {}
     curved: dict[tuple[int, int], Curve] = {}
+    interfaces: dict[str, list[tuple[int, int]]] = {n: [] for n in domain.interface_names}
     for c, (ids, params) in enumerate(zip(made.chain_nodes, made.chain_params, strict=True)):
         pairs = list(zip(ids[:-1].tolist(), ids[1:].tolist(), strict=True))
+        if chain_interface[c] >= 0:
+            interfaces[domain.interface_names[chain_interface[c]]] += pairs
         if chain_patch[c] >= 0:
             patches[domain.patch_names[chain_patch[c]]] += pairs
             if chain_source[c][0] >= 0:
@@ -452,6 +469,8 @@ def resized(
             boundary_source=boundary_source or None,
             edges=curved or None,
             curve_levels=CURVE_CHECK_LEVELS,
+            interfaces={k: v for k, v in interfaces.items() if v} or None,
+            components=domain.components,
             name=domain.name,
             description=domain.description,
             layout="sized",

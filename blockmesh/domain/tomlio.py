@@ -379,7 +379,7 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
 
 def _parts(raw: dict[str, Any], source: str) -> dict[str, Any]:
     """A ``[[parts]]`` domain: a list of tables, and optionally ``[interfaces]`` renames."""
-    others = sorted(set(raw) - {"name", "description", "parts", "interfaces"})
+    others = sorted(set(raw) - {"name", "description", "parts", "interfaces", "size"})
     if others:
         raise DomainFormatError(
             f"{source}: with [[parts]], the geometry is in the parts; leave out "

@@ -36,6 +36,32 @@ def _patch_lengths(domain) -> dict[str, float]:
     return out
 
 
+def _lengths(domain, edges) -> float:
+    """Total length of block edges (curved ones by their curves)."""
+    total = 0.0
+    for a, b in np.asarray(edges).tolist():
+        curve = domain.curves.get((a, b)) or domain.curves.get((b, a))
+        total += (
+            curve.length
+            if curve is not None
+            else float(np.hypot(*np.subtract(domain.vertices[b], domain.vertices[a])))
+        )
+    return total
+
+
+def _edge_regions(domain, edges) -> set[tuple[str, str]]:
+    """The (left, right) region names of block edges, each shared by two blocks."""
+    owner = {}
+    for k, block in enumerate(domain.blocks.tolist()):
+        for i in range(5):
+            owner[(block[i], block[(i + 1) % 5])] = k
+    names = domain.region_names
+    return {
+        (names[domain.region[owner[(a, b)]]], names[domain.region[owner[(b, a)]]])
+        for a, b in np.asarray(edges).tolist()
+    }
+
+
 def check_sized(domain: blockmesh.Domain, size) -> blockmesh.Domain:
     """Make ``domain`` to ``size`` and check every promise; return the sized domain."""
     sized = domain.with_size(size)
@@ -60,6 +86,15 @@ def check_sized(domain: blockmesh.Domain, size) -> blockmesh.Domain:
     before, after = _patch_lengths(domain), _patch_lengths(sized)
     for name in domain.patch_names:
         assert after[name] == pytest.approx(before[name], rel=1e-9), name
+    # Interfaces (composite domains) kept: the same names and lengths, each edge between two
+    # blocks of the regions it was between.
+    assert sized.interface_names == domain.interface_names
+    for name in domain.interface_names:
+        assert _lengths(sized, sized.interfaces[name]) == pytest.approx(
+            _lengths(domain, domain.interfaces[name]), rel=1e-9
+        ), name
+        regions = {tuple(sorted(_edge_regions(d, d.interfaces[name]))) for d in (domain, sized)}
+        assert len(regions) == 1, (name, regions)
     # Arcs stay on their circles.
     for (a, b), curve in sized.curves.items():
         if isinstance(curve, Arc):
@@ -220,3 +255,40 @@ def test_uniform_is_corner_true():
     # The paper's corner cell grows 1.5 times per level; the uniform one does not grow.
     assert shares_paper[-1] / shares_paper[0] > 2.0
     assert max(shares_uniform) < 2.0
+
+
+COMPOSITE = ["fibre-cell", "layered-plate", "heat-sink", "inclusion"]
+
+
+@pytest.mark.parametrize("name", ["layered-plate", "inclusion"])
+def test_composite_sample(name):
+    domain = blockmesh.load_domain(name)
+    sized = check_sized(domain, _size(domain, 40))
+    assert sized.interface_names and sized.mesh(1).interfaces  # carried through refinement
+
+
+def test_size_per_region_of_a_composite_domain(tmp_path):
+    # A [size] region table on a composite domain: the fibre's cells smaller than the matrix's.
+    path = tmp_path / "cell.toml"
+    path.write_text(
+        '[[parts]]\nregion = "matrix"\npolygon = [[0, 0], [1, 0], [1, 1], [0, 1]]\n'
+        '[[parts]]\nregion = "fibre"\ncircles = [{center = [0.5, 0.5], radius = 0.25}]\n'
+        "[size]\ndefault = 0.05\nregions = {fibre = 0.02}\n"
+    )
+    domain = blockmesh.load_domain(str(path))
+    report = domain.size_report()
+    assert report.worst_ratio <= SIZE_TOLERANCE and 0.5 <= report.count_ratio <= 2.0
+    assert report.neighbour_ratio <= NEIGHBOUR_RATIO
+    assert domain.interface_names == ("matrix|fibre",)
+    diameters = blockmesh.sizing.cell_diameters(domain.vertices, domain.blocks)
+    fibre = domain.region == domain.region_names.index("fibre")
+    assert diameters[fibre].max() <= SIZE_TOLERANCE * 0.02
+    assert np.median(diameters[~fibre]) > 1.5 * np.median(diameters[fibre])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("divisions", [40, 400])
+@pytest.mark.parametrize("name", COMPOSITE)
+def test_every_composite_domain_at_sizes_spanning_ten_times(name, divisions):
+    domain = blockmesh.load_domain(name)
+    check_sized(domain, _size(domain, divisions))
