@@ -102,7 +102,7 @@ _ITERATIONS = 60
 _STEP = 0.2
 _FSCALE = 1.2
 #: Rounds of the guarantee before giving up (each adds points where cells are too large).
-_REPAIRS = 8
+_REPAIRS = 12
 #: Cells above this fraction of the tolerance are repaired (a margin for the final rounding).
 _REPAIR_AT = 0.995
 #: The optimiser's target: corners scoring below it are worked on (the decomposition's default
