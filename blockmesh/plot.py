@@ -20,10 +20,11 @@ from blockmesh._system.atomic import atomic_file
 from blockmesh.checks import choice
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
-from blockmesh.geometry.topology import cell_neighbours
+from blockmesh.geometry.topology import PolygonCells, cell_neighbours
 from blockmesh.mesh.measures import cell_shapes
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.sizes import DRAW_LIMIT
+from blockmesh.sizing.measure import cell_centroids, cell_diameters, neighbour_ratios
 
 __all__ = [
     "DRAW_LIMIT",
@@ -34,6 +35,7 @@ __all__ = [
     "plot_domain",
     "plot_mesh",
     "plot_quality",
+    "plot_sizes",
     "pyplot",
     "save_figure",
 ]
@@ -470,6 +472,114 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
     right.legend(fontsize=8)
     fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: quality of {mesh.n_cells:,} cells")
     return save_figure(fig, path)
+
+
+def plot_sizes(mesh, path: str | Path, *, field=None, worst: int = 10) -> Path:
+    """Cell sizes: each cell's diameter, and its diameter over the size asked at its centroid.
+
+    Left, the diameters (log colours). Right, with ``field`` (a size field), the ratio of each
+    cell's diameter to the size asked at its centroid, the ``worst`` largest outlined and the
+    largest named in the title; without one, each cell's largest ratio to a neighbour's size.
+    Meshes of more than ``DRAW_LIMIT`` cells are drawn as pictures of ``DENSITY_PIXELS`` across
+    (each pixel the largest value of the cells whose vertex mean falls in it).
+    """
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import LogNorm, TwoSlopeNorm
+
+    plt = pyplot()
+    polygons = isinstance(mesh, PolygonMesh)
+    cells = mesh.polygon_cells() if polygons else mesh.cells
+    rings = np.split(cells.nodes, cells.offsets[1:-1]) if polygons else mesh.cells
+    diameters = cell_diameters(mesh.points, cells, mesh.curves)
+    if field is not None:
+        centroids = cell_centroids(mesh.points, cells)
+        right_values = diameters / field(centroids)
+        right_label = "diameter / size asked at the centroid"
+        centre = 1.0
+    else:
+        pairs = neighbour_ratios(cells, mesh.n_points, diameters)
+        right_values = np.ones(mesh.n_cells)
+        for column in (0, 1):
+            np.maximum.at(right_values, pairs[:, column].astype(np.int64), pairs[:, 2])
+        right_label = "largest diameter ratio to a neighbour"
+        centre = 1.5
+    means = _vertex_means(mesh.points, cells)
+    order = np.argsort(right_values)[::-1][:worst]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(14, 6.5))
+    big = mesh.n_cells > DRAW_LIMIT
+    lo, hi = _bounds(mesh.points)
+    for ax, values, label, norm, cmap in (
+        (left, diameters, "cell diameter", LogNorm(), "viridis"),
+        (
+            right,
+            right_values,
+            right_label,
+            TwoSlopeNorm(
+                vcenter=centre,
+                vmin=min(float(right_values.min()), centre - 1e-9),
+                vmax=max(float(right_values.max()), centre + 1e-9),
+            ),
+            "coolwarm",
+        ),
+    ):
+        if big:
+            pixel = float(np.max(hi - lo)) / DENSITY_PIXELS
+            shape = np.maximum(np.ceil((hi - lo) / pixel).astype(np.int64), 1)
+            i = np.minimum(((means[:, 0] - lo[0]) / pixel).astype(np.int64), shape[0] - 1)
+            j = np.minimum(((means[:, 1] - lo[1]) / pixel).astype(np.int64), shape[1] - 1)
+            picture = np.full(int(shape[0] * shape[1]), np.nan)
+            np.fmax.at(picture, j * shape[0] + i, values)
+            image = ax.imshow(
+                np.ma.masked_invalid(picture.reshape(shape[1], shape[0])),
+                origin="lower",
+                extent=(lo[0], lo[0] + shape[0] * pixel, lo[1], lo[1] + shape[1] * pixel),
+                cmap=cmap,
+                norm=norm,
+                interpolation="nearest",
+            )
+        else:
+            image = PolyCollection(
+                [mesh.points[ring] for ring in rings],
+                array=values,
+                cmap=cmap,
+                norm=norm,
+                edgecolors="0.3" if mesh.n_cells <= 20000 else "none",
+                linewidths=0.2,
+            )
+            ax.add_collection(image)
+        fig.colorbar(image, ax=ax, shrink=0.75, label=label)
+    right.add_collection(
+        PolyCollection(
+            [mesh.points[rings[c]] for c in order.tolist()],
+            facecolors="none",
+            edgecolors="k",
+            linewidths=1.5,
+        )
+    )
+    for rank, c in enumerate(order.tolist()):
+        x, y = means[c]
+        right.annotate(str(rank + 1), (x, y), fontsize=7, ha="center", va="center")
+    worst_cell = int(order[0]) if len(order) else 0
+    where = means[worst_cell] if mesh.n_cells else (0.0, 0.0)
+    _frame(left, mesh.points, f"cell diameters {diameters.min():.3g} .. {diameters.max():.3g}")
+    _frame(
+        right,
+        mesh.points,
+        f"{right_label}\nworst {right_values.max():.3g} (cell {worst_cell} near "
+        f"({where[0]:.4g}, {where[1]:.4g})); the {len(order)} worst outlined",
+    )
+    fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: sizes of {mesh.n_cells:,} cells")
+    return save_figure(fig, path)
+
+
+def _vertex_means(points: np.ndarray, cells) -> np.ndarray:
+    """The mean of every cell's vertices, (M, 2), for an (M, k) array or PolygonCells."""
+    if not isinstance(cells, PolygonCells):
+        return points[cells].mean(axis=1)
+    owner = cells.slot_cell()
+    sums = np.zeros((cells.n_cells, 2))
+    np.add.at(sums, owner, points[cells.nodes])
+    return sums / cells.sizes()[:, None]
 
 
 def _polygon_shapes(mesh: PolygonMesh) -> tuple[np.ndarray, np.ndarray]:

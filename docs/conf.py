@@ -53,6 +53,9 @@ autosummary_generate = True
 autosummary_ignore_module_all = True  # each module page lists what the module itself defines
 autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "signature"
+# Two classes are named Expression (the safe expression, numerics.expr; the size field,
+# sizing.fields): an annotation reading just ``Expression`` means the safe expression.
+autodoc_type_aliases = {"Expression": "blockmesh.numerics.expr.Expression"}
 numpydoc_show_class_members = False  # the class template lists the members itself
 numpydoc_class_members_toctree = False
 numpydoc_validation_checks: set[str] = set()

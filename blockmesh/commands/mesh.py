@@ -59,6 +59,9 @@ from blockmesh.refinement.marking import (
 )
 from blockmesh.refinement.pipeline import NUMBERINGS, refine
 from blockmesh.refinement.sizes import check_fits, mesh_command_predictor
+from blockmesh.sizing.gradation import checked_gradation
+from blockmesh.sizing.measure import size_report
+from blockmesh.sizing.spec import as_size_spec
 
 #: The level meshed when none is given (as ``blockmesh integrate``).
 DEFAULT_LEVEL = 2
@@ -76,7 +79,33 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_level_option(
         parser,
         f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
-        "a mesh file keeps its own level, and L more levels refine it further)",
+        "a mesh file keeps its own level, and L more levels refine it further; with --size, or "
+        "a domain file with a [size] table, 0 unless given)",
+    )
+    parser.add_argument(
+        "--size",
+        "-s",
+        metavar="H",
+        help="cut the domain into cells of diameter H instead of refining its blocks: every "
+        "cell's diameter at most 1.5 x the size asked at its centroid, with about as few cells "
+        "as that allows. H is a number or an expression in x and y, the size wanted at each "
+        "point ('0.02 + 0.1*sqrt(x^2 + y^2)'); a domain file's [size] table gives more (sizes "
+        "per region, near patches or points). With --level L too, the size sets the blocks "
+        "and the level refines them further (6**L cells each)",
+    )
+    parser.add_argument(
+        "--uniform",
+        action="store_true",
+        help="corner-true: instead of refining the blocks LEVEL times (where the cells at block "
+        "corners grow 1.5 times per level relative to the others), cut the domain into cells of "
+        "one size, about as many as LEVEL would make",
+    )
+    parser.add_argument(
+        "--gradation",
+        type=float,
+        metavar="R",
+        help="with --size: the largest size ratio between neighbouring cells that the sizes "
+        "asked may grow by (default 1.3)",
     )
     parser.add_argument(
         "--numbering",
@@ -153,6 +182,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--quality-plot", metavar="PNG", help="histograms of angles and aspect ratios"
     )
+    parser.add_argument(
+        "--size-plot",
+        metavar="PNG",
+        help="draw the cell sizes: diameters, and diameter over the size asked (or over the "
+        "neighbours') with the worst cells outlined",
+    )
     add_max_memory_option(parser, "meshes")
     add_partition_arguments(
         parser, "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
@@ -206,6 +241,46 @@ def _stage(progress: StageProgress, label: str, prediction) -> Iterator[Callable
         ) from None
 
 
+def _sized(
+    target: Domain | Mesh | PolygonMesh, options: dict[str, Any], progress: StageProgress
+) -> tuple[Domain | Mesh | PolygonMesh, int]:
+    """The domain cut to ``--size`` (when given), and the levels to add to it.
+
+    Without ``--level``: a domain cut to sizes (``--size`` or a ``[size]`` table) and a mesh
+    file add none, any other domain :data:`DEFAULT_LEVEL`.
+    """
+    size = options["size"]
+    if options.get("uniform"):
+        if not isinstance(target, Domain):
+            raise BlockMeshError("--uniform cuts a domain into cells; give the domain, not a mesh")
+        level = options["level"] if options["level"] is not None else DEFAULT_LEVEL
+        with progress.stage("cutting into cells of one size"):
+            return target.uniform(level, max_memory=options["max_memory"]), 0
+    if size is None:
+        sized = isinstance(target, Domain) and target.size_field is not None
+        return target, levels_to_add(options["level"], target, 0 if sized else DEFAULT_LEVEL)
+    if not isinstance(target, Domain):
+        raise BlockMeshError(
+            f"--size cuts a domain into cells of a size; {target.name or 'this'} is a mesh "
+            "(refine it with --level, or give the domain it came from)"
+        )
+    with progress.stage("cutting into cells of the sizes asked"):
+        domain = target.with_size(
+            as_size_spec(size, source="--size"),
+            gradation=options["gradation"],
+            max_memory=options["max_memory"],
+        )
+    return domain, options["level"] if options["level"] is not None else 0
+
+
+def _size_value(text: str) -> float | str:
+    """``--size`` as a number when it is one, else the expression text."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
 class _PolygonPrediction(NamedTuple):
     """What the stages' messages say of a polygon mesh refined further (its own guard ran)."""
 
@@ -239,8 +314,9 @@ def _mesh_one(
 ) -> dict[str, Any]:
     """Mesh, draw and write one domain (or refine a mesh further); the JSON-ready report."""
     progress = progress or StageProgress("", enabled=False)
-    options = {**options, "level": levels_to_add(options["level"], target, DEFAULT_LEVEL)}
     started = time.perf_counter()
+    target, level = _sized(target, options, progress)
+    options = {**options, "level": level}
     mesh: Mesh | PolygonMesh
     prediction: Any
     if isinstance(target, PolygonMesh):
@@ -268,9 +344,12 @@ def _mesh_one(
         with _stage(progress, "refining the marked cells", prediction) as tick:
             mesh, local = _refine_marked(mesh, options, tick)
     seconds = time.perf_counter() - started
+    field = target.size_field if isinstance(target, Domain) else None
     with _stage(progress, "measuring the cells", prediction) as tick:
         quality = mesh.quality(progress=tick)
         bandwidth: dict[str, int | None] = {"nested": mesh.bandwidth(), "rcm": None}
+        cells = mesh.cells if isinstance(mesh, Mesh) else mesh.polygon_cells()
+        sizes = size_report(mesh.points, cells, field, curves=mesh.curves)
     if options["numbering"] == "rcm" and isinstance(mesh, Mesh):
         with _stage(progress, "renumbering (reverse Cuthill-McKee)", prediction):
             mesh = mesh.with_rcm_numbering()
@@ -286,6 +365,8 @@ def _mesh_one(
         "boundary_edges": int(mesh.boundary_edges.shape[0]),
         "area": mesh.area,
         "quality": quality.as_dict(),
+        "sizes": sizes.as_dict(),
+        "size_asked": options["size"] if field is not None else None,
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
@@ -295,6 +376,7 @@ def _mesh_one(
         "predicted_peak_bytes": prediction.peak_bytes,
         "plot": None,
         "quality_plot": None,
+        "size_plot": None,
         "output": None,
     }
     if local is not None:
@@ -309,6 +391,13 @@ def _mesh_one(
 
         with _stage(progress, "drawing the quality histograms", prediction):
             report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
+    if options["size_plot"]:
+        from blockmesh.plot import plot_sizes
+
+        with _stage(progress, "drawing the cell sizes", prediction):
+            report["size_plot"] = str(
+                plot_sizes(mesh, _fill(options["size_plot"], mesh), field=field)
+            )
     if output:
         target_path = _fill(output, mesh)
         with _stage(progress, f"writing {target_path}", prediction):
@@ -383,7 +472,17 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
     if args.smooth < 0:
         raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
-    check_folders(args.output, args.plot, args.quality_plot)
+    if args.uniform and args.size is not None:
+        raise BlockMeshError("give --uniform (one size, the count of --level) or --size, not both")
+    if args.gradation is not None and args.size is None:
+        raise BlockMeshError("--gradation goes with --size (how fast the sizes asked may grow)")
+    size = None
+    if args.size is not None:
+        size = _size_value(args.size)
+        as_size_spec(size, source="--size")  # a located message for a bad size, before meshing
+    if args.gradation is not None:
+        checked_gradation(args.gradation)
+    check_folders(args.output, args.plot, args.quality_plot, args.size_plot)
     if args.output:
         # Fail before meshing: an unknown format or an option it does not take is known now.
         fmt = format_for_path(args.output, args.format)
@@ -399,6 +498,10 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         "refine_rounds": args.refine_rounds,
         "refine_scheme": args.refine_scheme,
         "level": args.level,
+        "size": size,
+        "uniform": args.uniform,
+        "gradation": args.gradation,
+        "size_plot": args.size_plot,
         "numbering": args.numbering,
         "smooth": args.smooth,
         "quality_rule": args.quality_rule,
@@ -423,6 +526,8 @@ def _print_report(report: dict[str, Any], done: str = "refined") -> None:
         f"{q['max_aspect_ratio']:.3g}, area ratio {q['area_ratio']:.3g}, "
         f"not strictly convex: {q['not_strictly_convex']}"
     )
+    for line in _size_lines(report):
+        print(line)
     local = report.get("local_refinement")
     if local:
         counts = ", ".join(f"{m:,}" for m in local["marked"])
@@ -437,13 +542,41 @@ def _print_report(report: dict[str, Any], done: str = "refined") -> None:
     if bandwidth["rcm"] is not None:
         line += f" -> {bandwidth['rcm']:,} (reverse Cuthill-McKee)"
     print(line + f"; {done} in {report['seconds']:.3f} s")
-    for key, label in (("plot", "plot"), ("quality_plot", "quality plot"), ("output", "mesh")):
-        if report[key]:
+    for key, label in (
+        ("plot", "plot"),
+        ("quality_plot", "quality plot"),
+        ("size_plot", "size plot"),
+        ("output", "mesh"),
+    ):
+        if report.get(key):
             print(f"  wrote {label} {report[key]}")
+
+
+def _size_lines(report: dict[str, Any]) -> list[str]:
+    """The size report: diameters and neighbours; size got against size asked when sized."""
+    s = report.get("sizes")
+    if not s:
+        return []
+    a, b = s["neighbour_cells"]
+    lines = [
+        f"  cell diameters {s['min_diameter']:.4g} .. {s['max_diameter']:.4g}; largest "
+        f"neighbour size ratio {s['neighbour_ratio']:.3g} (cells {a} and {b})"
+    ]
+    if s["worst_ratio"] is not None:
+        x, y = s["worst_point"]
+        lines.append(
+            f"  size got / size asked: worst {s['worst_ratio']:.3g} (cell {s['worst_cell']} near "
+            f"({x:.6g}, {y:.6g})), mean {s['mean_ratio']:.3g}; {report['cells']:,} cells = "
+            f"{s['count_ratio']:.3g} x the ideal {s['ideal_cells']:,.0f}"
+        )
+    return lines
 
 
 # ---------------------------------------------------------------------------- partitioned
 _NOT_PARTITIONED = {
+    "size": "--size",
+    "uniform": "--uniform",
+    "size_plot": "--size-plot",
     "plot": "--plot",
     "quality_plot": "--quality-plot",
     "format": "--format",
@@ -582,7 +715,7 @@ def _batch_worker(name: str, options: dict[str, Any], output: str | None) -> dic
 
 def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespace) -> int:
     output = args.output
-    for key in ("output", "plot", "quality_plot"):
+    for key in ("output", "plot", "quality_plot", "size_plot"):
         value = getattr(args, key)
         if value and "{name}" not in value:
             raise BlockMeshError(
@@ -611,7 +744,7 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
         for r in results:
             if r["ok"]:
                 q = r["quality"]
-                written = [r[k] for k in ("output", "plot", "quality_plot") if r[k]]
+                written = [r[k] for k in ("output", "plot", "quality_plot", "size_plot") if r[k]]
                 print(
                     f"{printable(r['domain']):<16} {r['cells']:>12,} {r['nodes']:>12,} "
                     f"{q['min_angle']:>7.2f} {q['max_angle']:>7.2f} {r['seconds']:>7.3f}  "

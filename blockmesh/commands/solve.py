@@ -42,10 +42,13 @@ from blockmesh.commands.options import (
     add_plot_option,
 )
 from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
+from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.refinement.improve import refine_with_rule
 from blockmesh.refinement.sizes import MemoryPrediction, check_fits, solve_command_predictor
+from blockmesh.sizing.spec import as_size_spec
 from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from blockmesh.vem.fields import scalar_field, split_pair
 from blockmesh.vem.output import SOLUTION_FORMATS, write_solution
@@ -78,7 +81,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         parser,
         f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file is solved on at its own level, refined further by --level if given; with "
-        "--adapt the starting level, default 0)",
+        "--adapt the starting level, default 0; with --size, or a domain file with a [size] "
+        "table, 0 unless given)",
+    )
+    parser.add_argument(
+        "--size",
+        "-s",
+        metavar="H",
+        help="solve on cells of diameter H (a number, or an expression in x and y) instead of "
+        "refined blocks; with --level L too, those cells are refined L times (see blockmesh "
+        "mesh --help)",
     )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
@@ -380,11 +392,27 @@ def _check_memory(target, steps: int, args: argparse.Namespace) -> MemoryPredict
     )
 
 
+def _sized(target: Domain | Mesh | PolygonMesh, size: str | None) -> Domain | Mesh | PolygonMesh:
+    """The domain cut into cells of ``--size`` (a number or an expression) when given."""
+    if size is None:
+        return target
+    if not isinstance(target, Domain):
+        raise BlockMeshError(
+            f"--size cuts a domain into cells of a size; {target.name or 'this'} is a mesh "
+            "(refine it with --level, or give the domain it came from)"
+        )
+    try:
+        value: float | str = float(size)
+    except ValueError:
+        value = size
+    return target.with_size(as_size_spec(value, source="--size"))
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh solve`` with the parsed ``args``; returns the exit code."""
     _check(args)
     conditions = _conditions(args)
-    domain = resolve_target(args)
+    domain = _sized(resolve_target(args), args.size)
     dirichlet, neumann = _patch_values(conditions, domain.patch_names, domain.interface_names)
     if args.adapt:
         start = levels_to_add(args.level, domain, 0)
@@ -392,7 +420,8 @@ def run(args: argparse.Namespace) -> int:
             domain, start, rule=args.quality_rule, smooth=args.smooth, max_memory=args.max_memory
         )
         return run_adaptive(args, mesh, lambda m: _solve(args, m, dirichlet, neumann))
-    steps = levels_to_add(args.level, domain, DEFAULT_LEVEL)
+    sized = isinstance(domain, Domain) and domain.size_field is not None
+    steps = levels_to_add(args.level, domain, 0 if sized else DEFAULT_LEVEL)
     prediction = _check_memory(domain, steps, args)
     started = time.perf_counter()
     mesh = refine_with_rule(

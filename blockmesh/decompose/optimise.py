@@ -50,11 +50,23 @@ _DIRECTIONS = np.exp(2j * np.pi * np.arange(6) / 6)
 _GIVE_UP = 2
 
 
-def _block_scores(points: np.ndarray, blocks: np.ndarray) -> np.ndarray:
+#: With sizes asked, a block's diameter over its size scores like a corner: the target at
+#: ``_SIZE_OK`` and below, falling to ``_SIZE_SCORE`` at ``_SIZE_LIMIT``, then slowly further
+#: (so a block too large is shrunk at the cost of corners down to about that score, no lower).
+_SIZE_OK, _SIZE_LIMIT, _SIZE_SCORE = 1.35, 1.5, 26.0
+#: The ten pairs of a pentagon's corners (its diameter is the longest of them).
+_PAIRS = np.triu_indices(5, 1)
+
+
+def _block_scores(
+    points: np.ndarray, blocks: np.ndarray, sizes: np.ndarray | None = None, target: float = 38.0
+) -> np.ndarray:
     """Score of each block; ``-inf`` where a corner turns by less than the sine margin.
 
     The score needs only the sharpest and the flattest corner, so it is computed from their
-    cosines: two arccosines per block instead of five angles.
+    cosines: two arccosines per block instead of five angles. With ``sizes`` (the size asked
+    of each block), a block whose diameter passes ``_SIZE_OK`` times its size scores lower too
+    (see ``_SIZE_SCORE``).
     """
     xy = points[blocks]
     incoming = xy - xy[:, [4, 0, 1, 2, 3]]
@@ -71,6 +83,16 @@ def _block_scores(points: np.ndarray, blocks: np.ndarray) -> np.ndarray:
     sharpest = np.degrees(np.arccos(np.clip(np.nanmax(cosine, axis=1), -1.0, 1.0)))
     flattest = np.degrees(np.arccos(np.clip(np.nanmin(cosine, axis=1), -1.0, 1.0)))
     score = np.minimum(sharpest, _FLAT_WEIGHT * (180.0 - flattest))
+    if sizes is not None:
+        diff = xy[:, _PAIRS[0]] - xy[:, _PAIRS[1]]
+        ratio = np.sqrt(np.max(diff[..., 0] ** 2 + diff[..., 1] ** 2, axis=1)) / sizes
+        falling = (target - _SIZE_SCORE) / (_SIZE_LIMIT - _SIZE_OK)
+        size_score = np.where(
+            ratio <= _SIZE_LIMIT,
+            target - falling * np.maximum(ratio - _SIZE_OK, 0.0),
+            _SIZE_SCORE - 10.0 * (ratio - _SIZE_LIMIT),
+        )
+        score = np.minimum(score, size_score)
     return np.where(convex, score, -np.inf)
 
 
@@ -87,6 +109,7 @@ def improve_angles(
     slide: np.ndarray | None = None,
     target: float = 38.0,
     sweeps: int = 5,
+    sizes: np.ndarray | None = None,
 ) -> np.ndarray:
     """Return new node positions with a better worst angle around every moved node.
 
@@ -105,6 +128,9 @@ def improve_angles(
         Nodes scoring at least this (degrees) are left alone.
     sweeps : int
         Most passes over the nodes below target.
+    sizes : ndarray (B,), optional
+        The diameter asked of each block: blocks larger than 1.35 times it score lower (as a
+        26-degree corner at 1.5 times), so nodes move to shrink them while the angles allow.
 
     Returns
     -------
@@ -121,7 +147,8 @@ def improve_angles(
     n = points.shape[0]
     if not len(blocks):
         return points
-    score = _block_scores(points, blocks)
+    sizes = None if sizes is None else np.asarray(sizes, dtype=np.float64)
+    score = _block_scores(points, blocks, sizes, target)
     corner_of = blocks.ravel()
     node_score = np.full(n, np.inf)
     np.minimum.at(node_score, corner_of, np.repeat(score, 5))
@@ -152,7 +179,7 @@ def improve_angles(
         for nodes in _independent_sets(blocks, active, block_of, first, count, n):
             if _sweep_set(
                 points, blocks, score, nodes, block_of, first, count, dst, near_from, degree,
-                direction, step_size, failures,
+                direction, step_size, failures, sizes, target,
             ):  # fmt: skip
                 improved = True
         if not improved:
@@ -169,6 +196,9 @@ def improve_angles(
 class WorstAngle(Placement):
     """The decomposition's optimiser as a node placement: :func:`improve_angles` on every node.
 
+    With ``sizes`` (the diameter asked of each cell), cells beyond 1.3 times their size count as
+    bad corners do (see :func:`improve_angles`).
+
     Examples
     --------
     >>> import numpy as np
@@ -183,6 +213,7 @@ class WorstAngle(Placement):
 
     target: float = 38.0
     sweeps: int = 5
+    sizes: np.ndarray | None = None
     name: ClassVar[str] = "worst-angle"
     nested: ClassVar[bool] = False
 
@@ -195,12 +226,13 @@ class WorstAngle(Placement):
             slide=freedom.slide,
             target=self.target,
             sweeps=self.sweeps,
+            sizes=self.sizes,
         )
 
 
 def _sweep_set(
     points, blocks, score, nodes, block_of, first, count, dst, near_from, degree, direction,
-    step_size, failures,
+    step_size, failures, sizes=None, target=38.0,
 ) -> bool:  # fmt: skip
     """Try every candidate move of an independent set of nodes; keep the best improving one."""
     slots = _ranges(first[nodes], count[nodes])
@@ -229,7 +261,9 @@ def _sweep_set(
             sliding = np.any(d != 0, axis=1)
             move = np.where(sliding[:, None], np.sum(move * d, axis=1)[:, None] * d, move)
         points[nodes] = start + move
-        trial = _block_scores(points, blocks[around])
+        trial = _block_scores(
+            points, blocks[around], None if sizes is None else sizes[around], target
+        )
         after = np.full(nodes.size, np.inf)
         np.minimum.at(after, owner, trial)
         with np.errstate(invalid="ignore"):

@@ -75,7 +75,11 @@ def _side_chains(keys: np.ndarray, k: int, starts: np.ndarray, stops: np.ndarray
     return np.column_stack([starts, first, second, stops])
 
 
-def pentagons_from_pieces(points: np.ndarray, groups: Sequence[np.ndarray]) -> PiecePentagons:
+def pentagons_from_pieces(
+    points: np.ndarray,
+    groups: Sequence[np.ndarray],
+    sector_weights: np.ndarray | None = None,
+) -> PiecePentagons:
     """Replace every convex piece by its ring-and-hub template, conformingly.
 
     Parameters
@@ -85,6 +89,8 @@ def pentagons_from_pieces(points: np.ndarray, groups: Sequence[np.ndarray]) -> P
     groups : sequence of ndarray (P_g, n_g)
         Pieces with ``n_g`` corners each, counter-clockwise, strictly convex, meeting side to side
         (each side shared by at most two pieces, in opposite directions).
+    sector_weights : ndarray (3, 3), optional
+        The inner nodes' weights (:func:`~blockmesh.decompose.templates.ring_hub_nodes`).
 
     Returns
     -------
@@ -122,7 +128,7 @@ def pentagons_from_pieces(points: np.ndarray, groups: Sequence[np.ndarray]) -> P
         ids[:, 3 * n :] = next_id + np.arange(count * (3 * n + 1)).reshape(count, 3 * n + 1)
         next_id += count * (3 * n + 1)
         sides = np.concatenate([nodes[0], nodes[1]])[chains[:, :, 1:3]]
-        placed = ring_hub_nodes(points[g], sides)
+        placed = ring_hub_nodes(points[g], sides, sector_weights)
         nodes.append(placed[:, 3 * n :].reshape(-1, 2))
         faces = ring_hub_faces(n)
         blocks.append(ids[:, faces].reshape(-1, 5))

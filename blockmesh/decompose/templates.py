@@ -38,6 +38,7 @@ from functools import lru_cache
 import numpy as np
 
 __all__ = [
+    "BALANCED_SECTOR_WEIGHTS",
     "EDGE_FRACTIONS",
     "SQUARE_FACES",
     "SQUARE_NODES",
@@ -141,6 +142,24 @@ def _sector_weights() -> np.ndarray:
 
 _SECTOR_WEIGHTS = _sector_weights()
 
+#: Inner nodes of the *balanced* triangle template, ``(p, q, s)`` as in MATH.md section 4 (the
+#: side fractions unchanged): the 9 cells of an equilateral triangle have diameters 0.293-0.343
+#: of its side (the standard template's: 0.186-0.413), angles 60-145 degrees, area / diameter^2
+#: at least 0.42. Found by minimising the largest cell diameter under those angle and roundness
+#: bounds; for meshes made to a size field, where the cells' spread of sizes costs cells.
+_BALANCED = (0.634211, 0.313434, 0.363466)
+
+
+def _balanced_sector_weights() -> np.ndarray:
+    p, q, s = _BALANCED
+    r, u = 1.0 - p - q, 1.0 - 2.0 * s
+    return np.array([(p - r, q - r, 3 * r), (s - u, s - u, 3 * u), (q - r, p - r, 3 * r)])
+
+
+#: Sector weights of the balanced template (for :func:`ring_hub_nodes`).
+BALANCED_SECTOR_WEIGHTS = _balanced_sector_weights()
+BALANCED_SECTOR_WEIGHTS.setflags(write=False)
+
 
 @lru_cache(maxsize=64)
 def ring_hub_faces(n: int) -> np.ndarray:
@@ -171,7 +190,11 @@ def ring_hub_faces(n: int) -> np.ndarray:
     return faces
 
 
-def ring_hub_nodes(corners: np.ndarray, sides: np.ndarray | None = None) -> np.ndarray:
+def ring_hub_nodes(
+    corners: np.ndarray,
+    sides: np.ndarray | None = None,
+    sector_weights: np.ndarray | None = None,
+) -> np.ndarray:
     """Node coordinates of the ring-and-hub template for pieces of the same corner count.
 
     Parameters
@@ -181,6 +204,9 @@ def ring_hub_nodes(corners: np.ndarray, sides: np.ndarray | None = None) -> np.n
     sides : ndarray (P, n, 2, 2), optional
         The side nodes (near the first corner, near the second), when they are computed elsewhere
         (shared with a neighbour, bit for bit); by default at :data:`EDGE_FRACTIONS`.
+    sector_weights : ndarray (3, 3), optional
+        Weights of each sector's three inner nodes on (corner i, corner i + 1, hub); by
+        default the standard template's (:data:`BALANCED_SECTOR_WEIGHTS` is the other choice).
 
     Returns
     -------
@@ -193,7 +219,7 @@ def ring_hub_nodes(corners: np.ndarray, sides: np.ndarray | None = None) -> np.n
         f1, f2 = EDGE_FRACTIONS
         sides = np.stack([corners + f1 * (ahead - corners), corners + f2 * (ahead - corners)], 2)
     hub = corners.mean(axis=1, keepdims=True)
-    w = _SECTOR_WEIGHTS
+    w = _SECTOR_WEIGHTS if sector_weights is None else np.asarray(sector_weights)
     inner = (
         w[None, None, :, 0:1] * corners[:, :, None, :]
         + w[None, None, :, 1:2] * ahead[:, :, None, :]

@@ -19,6 +19,10 @@ blocks, like OpenFOAM's blockMeshDict::
     [regions]
     solid = [0]            # block ids
 
+    [[grading]]            # graded block edges (explicit blocks), like blockMesh's edgeGrading
+    edge = [0, 4]          # refined, pieces spaced geometrically from vertex 0 to vertex 4,
+    ratio = 10             # the last 10 times the first
+
     [[edges]]              # curved block edges (explicit blocks), one table each
     arc = [3, 4]           # from vertex 3 to vertex 4, through a point or around a centre
     through = [0.5, 2.2]   # or: center = [x, y]
@@ -113,6 +117,10 @@ ALLOWED_KEYS = {
     "arcs, circles and patches; a later part is cut out of the earlier ones",
     "interfaces": 'with parts, a table "A|B" = name (renames the interface between regions A '
     "and B); with blocks, a table name = list of edges [a, b] between two blocks",
+    "grading": "graded block edges (explicit blocks): [[grading]] tables, each edge = [a, b] "
+    "(or edges = [[a, b], ...]) and ratio = last piece / first piece",
+    "size": "the cell size: a number, an expression in x, y, or a [size] table (default, "
+    "regions, [[size.near]], expression, gradation); the blocks are cut to it",
 }
 
 
@@ -285,6 +293,11 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
                 f"{source}: key {key!r} must be a list ({ALLOWED_KEYS[key]}), got "
                 f"{_toml_type(raw[key])}"
             )
+    if "size" in raw and not isinstance(raw["size"], dict | str | int | float):
+        raise DomainFormatError(
+            f"{source}: key 'size' must be a number, an expression or a [size] table, got "
+            f"{_toml_type(raw['size'])}"
+        )
     for key in ("patches", "regions"):
         if key in raw and not isinstance(raw[key], dict):
             raise DomainFormatError(
@@ -346,6 +359,13 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
         raise DomainFormatError(
             f"{source}: 'edges' needs explicit blocks (vertices and blocks), not a polygon"
         )
+    if "grading" in raw and not has_blocks:
+        raise DomainFormatError(
+            f"{source}: 'grading' grades edges of explicit blocks (vertices and blocks), not a "
+            "polygon's"
+        )
+    if "grading" in raw:
+        raw["grading"] = _grading(raw["grading"], source)
     if "edges" in raw:
         raw["edges"] = _curved_edges(raw["edges"], source)
     if "arcs" in raw:
@@ -359,7 +379,7 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
 
 def _parts(raw: dict[str, Any], source: str) -> dict[str, Any]:
     """A ``[[parts]]`` domain: a list of tables, and optionally ``[interfaces]`` renames."""
-    others = sorted(set(raw) - {"name", "description", "parts", "interfaces"})
+    others = sorted(set(raw) - {"name", "description", "parts", "interfaces", "size"})
     if others:
         raise DomainFormatError(
             f"{source}: with [[parts]], the geometry is in the parts; leave out "
@@ -393,7 +413,7 @@ def _check_table(table: object, key: str, source: str, kind: type, what: str) ->
 
 def _disc(raw: dict[str, Any], source: str) -> dict[str, Any]:
     """A ``circle = {...}`` domain: the table checked, no other geometry."""
-    others = sorted(set(raw) - {"name", "description", "circle"})
+    others = sorted(set(raw) - {"name", "description", "circle", "size"})
     if others:
         raise DomainFormatError(
             f"{source}: a 'circle' is the whole domain; leave out {', '.join(map(repr, others))} "
@@ -433,6 +453,38 @@ def _polygon_arcs(tables: object, source: str) -> dict[Any, Any]:
             raise DomainFormatError(f"{where}: edge {edge!r} already has an arc")
         fields = {name: value for name, value in table.items() if name != "edge"}
         out[edge] = curve_from_fields("arc", fields, f"{where} (edge = {edge!r})")
+    return out
+
+
+def _grading(tables: object, source: str) -> dict[tuple[int, int], Any]:
+    """``[[grading]]`` tables as ``{(a, b): ratio}`` (the domain checks edges and ratios)."""
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise DomainFormatError(
+            f"{source}: 'grading' must be [[grading]] tables (edge = [a, b], ratio = r), got "
+            f"{_toml_type(tables)}"
+        )
+    out: dict[tuple[int, int], Any] = {}
+    for k, table in enumerate(tables, start=1):
+        where = f"{source}: [[grading]] entry {k}"
+        unknown = sorted(set(table) - {"edge", "edges", "ratio"})
+        if unknown or "ratio" not in table or ("edge" in table) == ("edges" in table):
+            raise DomainFormatError(
+                f"{where} takes edge = [a, b] (or edges = [[a, b], ...]) and ratio = r, got "
+                f"{', '.join(sorted(table)) or 'nothing'}"
+            )
+        pairs = [table["edge"]] if "edge" in table else table["edges"]
+        if not isinstance(pairs, list):
+            raise DomainFormatError(f"{where}: edges must be a list of [a, b]")
+        for pair in pairs:
+            if (
+                not isinstance(pair, list)
+                or len(pair) != 2
+                or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+            ):
+                raise DomainFormatError(f"{where}: an edge is [a, b], two vertex ids, got {pair!r}")
+            if (pair[0], pair[1]) in out:
+                raise DomainFormatError(f"{where}: edge {pair} is graded twice")
+            out[(pair[0], pair[1])] = table["ratio"]
     return out
 
 
@@ -528,6 +580,8 @@ def dumps_domain(domain) -> str:
         for name, edges in domain.interfaces.items():
             pairs = ", ".join(f"[{int(a)}, {int(b)}]" for a, b in edges)
             lines.append(f"{_key(name)} = [{pairs}]")
+    for (a, b), ratio in getattr(domain, "grading", {}).items():
+        lines += ["", "[[grading]]", f"edge = [{int(a)}, {int(b)}]", f"ratio = {_float(ratio)}"]
     for (a, b), curve in domain.curves.items():
         lines += ["", "[[edges]]", f"{curve.kind} = [{int(a)}, {int(b)}]"]
         for name, value in curve.to_fields().items():

@@ -37,6 +37,7 @@ from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
+from blockmesh.refinement.grading import graded_mesh
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
 from blockmesh.refinement.interfaces import refined_interfaces
 from blockmesh.refinement.local import refine_locally
@@ -149,8 +150,10 @@ def refine(
     ----------
     domain_or_mesh : Domain, Mesh or PolygonMesh
         A Domain is refined from its block mesh (level 0); a Mesh from its own cells, so
-        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)``. A PolygonMesh is refined by the
-        local rule (every cell marked, unless ``cells`` says otherwise).
+        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)`` (for a domain without a grading:
+        the graded edges of a Domain's ``grading`` are spaced geometrically at the level made,
+        :mod:`blockmesh.refinement.grading`). A PolygonMesh is refined by the local rule (every
+        cell marked, unless ``cells`` says otherwise).
     level : int
         How many times each cell is split (>= 0). The result's ``level`` is the input's plus this.
         With ``cells``, the rounds of local refinement (default 1).
@@ -247,6 +250,9 @@ def refine(
             "although the prediction fitted (other programs may be using memory); try a lower "
             "level or free memory"
         ) from None
+    grading = getattr(domain_or_mesh, "grading", None)
+    if grading and not isinstance(domain_or_mesh, Mesh):
+        mesh = graded_mesh(base, mesh, grading)
     if numbering == "rcm":
         mesh = mesh.with_rcm_numbering()
     return mesh

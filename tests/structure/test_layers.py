@@ -21,6 +21,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("blockmesh.numerics",),
     ("blockmesh.geometry",),
     ("blockmesh.curves",),
+    ("blockmesh.sizing",),
     ("blockmesh.mesh",),
     ("blockmesh.io",),
     ("blockmesh.refinement",),
