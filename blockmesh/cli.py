@@ -22,6 +22,7 @@ import sys
 import threading
 import warnings
 from collections.abc import Iterator, Sequence
+from typing import Any
 
 from . import __version__
 from .commands import SUMMARIES, load
@@ -53,7 +54,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 
 def _show_warning(message, *_details: object, **_where: object) -> None:
-    print(f"blockmesh: warning: {message}", file=sys.stderr)
+    print(f"blockmesh: warning: {_printable(str(message))}", file=sys.stderr)
 
 
 class Terminated(KeyboardInterrupt):
@@ -64,21 +65,43 @@ class Terminated(KeyboardInterrupt):
         self.signum = signum
 
 
+#: The signals received while the command ran (see :func:`_signals_as_interrupts`).
+_RECEIVED: list[int] = []
+
+
 def _terminate(signum: int, _frame: object) -> None:
+    _RECEIVED.append(signum)
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise Terminated(signum)
 
 
 @contextlib.contextmanager
 def _signals_as_interrupts() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise :class:`Terminated` while a command runs (main thread only)."""
+    """SIGTERM and SIGHUP raise :class:`Terminated`, SIGINT KeyboardInterrupt (main thread only).
+
+    Each signal is also recorded: one that arrives while Python runs a finaliser (a weak
+    reference's callback, a ``__del__``) has its exception swallowed ("Exception ignored"), and
+    :func:`main` then still stops with the signal's exit code.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    wanted = [getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
+    _RECEIVED.clear()
+    names = ("SIGINT", "SIGTERM", "SIGHUP")
+    wanted = [getattr(signal, name) for name in names if hasattr(signal, name)]
     previous = {signum: signal.signal(signum, _terminate) for signum in wanted}
+    hook = sys.unraisablehook
+
+    def unraisable(info: Any) -> None:
+        if not issubclass(info.exc_type, KeyboardInterrupt):  # a signal's: handled by main
+            hook(info)
+
+    sys.unraisablehook = unraisable
     try:
         yield
     finally:
+        sys.unraisablehook = hook
         for signum, handler in previous.items():
             signal.signal(signum, handler)
 
@@ -106,7 +129,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     with warnings.catch_warnings(), _signals_as_interrupts():
         warnings.showwarning = _show_warning
         try:
-            return int(args.run(args))
+            code = int(args.run(args))
+            if _RECEIVED:  # its exception was swallowed by a finaliser: stop as it asked
+                raise (
+                    Terminated(_RECEIVED[0]) if _RECEIVED[0] != signal.SIGINT else KeyboardInterrupt
+                )
+            return code
         except BlockMeshError as error:
             print(f"{where}: error: {_printable(str(error))}", file=sys.stderr)
             return 2

@@ -3,15 +3,20 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
+import os
+import stat
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..bounded import file_kind
 from ..domain import Domain
 from ..errors import BlockMeshError, DomainFormatError, ExportError
 from ..loading import load_domain, parse_polygon_string
@@ -167,6 +172,7 @@ def check_folders(*targets: str | None) -> None:
     for target in targets:
         if not target:
             continue
+        _refuse_special(target)
         folder = Path(target).absolute().parent
         if any(field in str(folder) for field in TEMPLATE_FIELDS):
             continue
@@ -177,6 +183,23 @@ def check_folders(*targets: str | None) -> None:
                 f"cannot write {target}: the directory {folder} does not exist; create it first "
                 f"(mkdir -p {folder})"
             )
+
+
+def _refuse_special(target: str) -> None:
+    """ExportError now if ``target`` is a FIFO, a device or a socket (links followed).
+
+    Such a path is no place for an output: writing would replace the node (or, through a link,
+    write into the device). A directory is left to the format (OpenFOAM writes one).
+    """
+    try:
+        mode = os.stat(target).st_mode
+    except (OSError, ValueError):
+        return  # nothing there yet
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise ExportError(
+            f"cannot write {printable(target)}: it is {file_kind(mode)}, not a regular file; "
+            "blockmesh writes only where a regular file may go (give another name)"
+        )
 
 
 def is_templated(pattern: str) -> bool:
@@ -201,26 +224,47 @@ def safe_component(text: str) -> str:
     return cleaned
 
 
-def fill_template(pattern: str, *, name: str, level: int) -> str:
+@contextlib.contextmanager
+def fill_template(pattern: str, *, name: str, level: int) -> Iterator[str]:
     """``pattern`` with ``{name}`` and ``{level}`` filled in, its missing folders created.
 
-    The name is made a safe single path component first (:func:`safe_component`).
+    The name is made a safe single path component first (:func:`safe_component`). The folders
+    made for it are removed again (those left empty) when the block raises: a failed write leaves
+    nothing behind.
 
     Examples
     --------
-    >>> fill_template("{name}-{level}.vtu", name="../x", level=2)
+    >>> with fill_template("{name}-{level}.vtu", name="../x", level=2) as path:
+    ...     path
     'x-2.vtu'
     """
     filled = pattern.replace("{name}", safe_component(name)).replace("{level}", str(int(level)))
+    made: list[Path] = []
     if is_templated(pattern):
         folder = Path(filled).parent
+        made = [p for p in (folder, *folder.parents) if not p.exists()]
         try:
             folder.mkdir(parents=True, exist_ok=True)
         except OSError as error:
+            _remove_empty(made)
             raise ExportError(
-                f"cannot create the folder {folder} for {filled}: {error.strerror}"
+                f"cannot create the folder {printable(str(folder))} for {printable(filled)}: "
+                f"{error.strerror}"
             ) from None
-    return filled
+    try:
+        yield filled
+    except BaseException:
+        _remove_empty(made)
+        raise
+
+
+def _remove_empty(folders: list[Path]) -> None:
+    """Remove ``folders`` (deepest first) while they are empty."""
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except OSError:
+            return
 
 
 def plural(count: int, noun: str) -> str:

@@ -24,6 +24,12 @@ _TICK = 0.2
 _WIDTH = 30
 
 
+def _printable(text: str) -> str:
+    from ._common import printable  # imported here: _common imports this module
+
+    return printable(text)
+
+
 class StageProgress:
     """Progress lines for the stages of one command, prefixed with ``prefix``."""
 
@@ -74,7 +80,7 @@ class StageProgress:
             return
         with self._lock:
             self._label, self._started, self._fraction, self._shown = (
-                label,
+                _printable(label),
                 time.perf_counter(),
                 None,
                 False,

@@ -111,11 +111,11 @@ def _print_certificate(c: dict) -> None:
     print(f"  blocks {c['blocks']}, vertices {c['vertices']}, area {c['area']:.12g}")
     print(f"  shared edges {c['shared_edges']}, boundary edges {c['boundary_edges']}")
     for patch, count in c["patches"].items():
-        print(f"    patch {patch}: {count} edge{'s' if count != 1 else ''}")
+        print(f"    patch {printable(patch)}: {count} edge{'s' if count != 1 else ''}")
     for region, blocks in c["regions"].items():
         listed = ", ".join(map(str, blocks[:_LISTED]))
         more = f" ... ({len(blocks):,} in all)" if len(blocks) > _LISTED else ""
-        print(f"    region {region}: blocks {listed}{more}")
+        print(f"    region {printable(region)}: blocks {listed}{more}")
     print(
         f"  Euler characteristic {c['euler_characteristic']} "
         f"({c['connected_components']} piece, {c['holes']} hole{'s' if c['holes'] != 1 else ''})"
@@ -134,4 +134,4 @@ def _print_certificate(c: dict) -> None:
     if c["blocks"] > _LISTED:
         print(f"  ... and {c['blocks'] - _LISTED:,} more blocks (all of them with --json)")
     for message in c["warnings"]:
-        print(f"  warning: {message}")
+        print(f"  warning: {printable(message)}")

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..domain import Domain
 from ..io import SPLITS, write
-from ._common import check_folders, print_json
+from ._common import check_folders, print_json, printable
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -93,13 +93,13 @@ def run(args: argparse.Namespace) -> int:
         return 0
     per = ", ".join(f"{count} with {k} blocks" for k, count in report["blocks_per_element"].items())
     print(
-        f"converted {args.input}: {report['elements']} elements ({per}) -> {domain.n_blocks} "
-        f"pentagonal blocks ({domain.layout}), angles {report['min_angle']:.2f}° .. "
-        f"{report['max_angle']:.2f}°"
+        f"converted {printable(args.input)}: {report['elements']} elements ({per}) -> "
+        f"{domain.n_blocks} pentagonal blocks ({domain.layout}), angles "
+        f"{report['min_angle']:.2f}° .. {report['max_angle']:.2f}°"
     )
     for name, count in report["patches"].items():
-        print(f"  patch {name}: {count} edges")
+        print(f"  patch {printable(name)}: {count} edges")
     for name, count in report["regions"].items():
-        print(f"  region {name}: {count} blocks")
-    print(f"wrote {written} (level {args.level}, {cells:,} cells)")
+        print(f"  region {printable(name)}: {count} blocks")
+    print(f"wrote {printable(str(written))} (level {args.level}, {cells:,} cells)")
     return 0

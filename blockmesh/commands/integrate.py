@@ -225,11 +225,11 @@ def run(args: argparse.Namespace) -> int:
     if result.converged:
         return 0
     if args.tol is not None:
-        print(f"blockmesh integrate: warning: {result.message}", file=sys.stderr)
+        print(f"blockmesh integrate: warning: {printable(result.message)}", file=sys.stderr)
         return 1
     print(
-        f"blockmesh integrate: warning: {result.message}; on the command line: a higher --level "
-        "or --order, or --tol",
+        f"blockmesh integrate: warning: {printable(result.message)}; on the command line: a "
+        "higher --level or --order, or --tol",
         file=sys.stderr,
     )
     return 0

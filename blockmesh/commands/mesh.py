@@ -219,18 +219,23 @@ def _mesh_one(
     if options["plot"]:
         from ..plot import plot_mesh
 
-        with _stage(progress, "drawing the mesh", prediction):
-            report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], mesh)))
+        with _stage(progress, "drawing the mesh", prediction), _fill(options["plot"], mesh) as at:
+            report["plot"] = str(plot_mesh(mesh, at))
     if options["quality_plot"]:
         from ..plot import plot_quality
 
-        with _stage(progress, "drawing the quality histograms", prediction):
-            report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
+        with (
+            _stage(progress, "drawing the quality histograms", prediction),
+            _fill(options["quality_plot"], mesh) as at,
+        ):
+            report["quality_plot"] = str(plot_quality(mesh, at))
     if output:
         from ..io import write
 
-        target_path = _fill(output, mesh)
-        with _stage(progress, f"writing {target_path}", prediction):
+        with (
+            _fill(output, mesh) as target_path,
+            _stage(progress, f"writing {target_path}", prediction),
+        ):
             report["output"] = str(
                 write(
                     mesh,
@@ -243,7 +248,7 @@ def _mesh_one(
     return report
 
 
-def _fill(pattern: str, mesh: Mesh) -> str:
+def _fill(pattern: str, mesh: Mesh) -> contextlib.AbstractContextManager[str]:
     return fill_template(pattern, name=mesh.name or "mesh", level=mesh.level)
 
 
@@ -290,7 +295,7 @@ def _print_report(report: dict[str, Any], done: str = "refined") -> None:
     print(line + f"; {done} in {report['seconds']:.3f} s")
     for key, label in (("plot", "plot"), ("quality_plot", "quality plot"), ("output", "mesh")):
         if report[key]:
-            print(f"  wrote {label} {report[key]}")
+            print(f"  wrote {label} {printable(report[key])}")
 
 
 # ---------------------------------------------------------------------------- partitioned
@@ -345,12 +350,14 @@ def _run_partitioned(args: argparse.Namespace) -> int:
     from ..distributed.files import pieces_dir
 
     level = target.level + args.level if isinstance(target, Mesh) else args.level
-    output = fill_template(args.output, name=target.name or "mesh", level=level)
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     parts = distributed.partition(target, args.level, args.partitions)
     predicted = max(distributed.predict_task_bytes(parts, p) for p in range(parts.n_partitions))
     label = f"making {args.partitions} pieces on Dask workers"
-    with progress.stage(label) as tick:
+    with (
+        fill_template(args.output, name=target.name or "mesh", level=level) as output,
+        progress.stage(label) as tick,
+    ):
         made = distributed.refine_to(
             target,
             args.level,
@@ -454,7 +461,7 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
                 print(
                     f"{printable(r['domain']):<16} {r['cells']:>12,} {r['nodes']:>12,} "
                     f"{q['min_angle']:>7.2f} {q['max_angle']:>7.2f} {r['seconds']:>7.3f}  "
-                    f"{', '.join(written) or '-'}"
+                    f"{printable(', '.join(written)) or '-'}"
                 )
             else:
                 print(f"{printable(r['domain']):<16} FAILED: {printable(r['error'])}")

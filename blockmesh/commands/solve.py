@@ -21,7 +21,13 @@ from ..improve import QUALITY_RULES, refine_with_rule
 from ..vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from ..vem.fields import split_pair
 from ..vem.output import SOLUTION_FORMATS
-from ._common import add_domain_arguments, check_folders, print_json, resolve_domain
+from ._common import (
+    add_domain_arguments,
+    check_folders,
+    print_json,
+    printable,
+    resolve_domain,
+)
 
 __all__ = ["register", "run"]
 
@@ -281,4 +287,4 @@ def _print_report(report: dict[str, Any], args: argparse.Namespace) -> None:
         )
     for given, label in ((args.output, "solution"), (args.plot, "plot")):
         if given:
-            print(f"  wrote {label} {given}")
+            print(f"  wrote {label} {printable(given)}")

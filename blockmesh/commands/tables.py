@@ -9,7 +9,7 @@ from ..atomic import atomic_file
 from ..plot_tables import plot_convergence
 from ..quadrature import RULES
 from ..tables import PENTAGONS, TABLES, compute_table, format_table, write_csv
-from ._common import check_folders
+from ._common import check_folders, printable
 
 __all__ = ["register", "run"]
 
@@ -114,8 +114,8 @@ def run(args: argparse.Namespace) -> int:
             open(temporary, "w", encoding="utf-8", newline="") as handle,
         ):
             rows = write_csv(results, handle)
-        print(f"wrote {rows} rows to {args.csv}")
+        print(f"wrote {rows} rows to {printable(args.csv)}")
     if args.plot:
         plot_convergence(results, args.plot)
-        print(f"wrote {args.plot}")
+        print(f"wrote {printable(args.plot)}")
     return 0

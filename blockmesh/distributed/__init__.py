@@ -9,7 +9,8 @@ and checksums. Nothing gathers the mesh on the client.
 
 - :func:`refine_to` writes ``out.pvtu`` (ParaView's parallel VTU, with ``GlobalNodeIds`` and
   ghost marks) or ``out.xdmf`` (an XDMF spatial collection of HDF5 pieces), pieces in
-  ``out.pvtu.pieces/`` (or ``out.xdmf.pieces/``);
+  ``out.pvtu.pieces/<8 hex digits>/`` (or ``out.xdmf.pieces/...``): a folder of their own at
+  every write, committed with the index (:func:`blockmesh.atomic.atomic_with_folder`);
 - :func:`integrate` and :func:`integrate_with_estimate` sum the integrals of the partitions;
 - :func:`gather` reads a partitioned mesh back into one :class:`~blockmesh.mesh.Mesh` (for meshes
   that fit): it equals the serial :func:`blockmesh.refine` result array for array, bit for bit.
@@ -37,8 +38,8 @@ import contextlib
 import logging
 import math
 import os
-import shutil
-import tempfile
+import signal
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -47,7 +48,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..atomic import atomic_file, check_target
+from ..atomic import atomic_with_folder, check_target
 from ..checks import whole_number
 from ..errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
 from ..mesh import Mesh, MeshQuality
@@ -197,7 +198,7 @@ def dask_client(
         for key, value in dask.config.get(_ENVIRON_KEY, {}).items()
         if not key.startswith("MALLOC_")
     }
-    with dask.config.set({_ENVIRON_KEY: environ}):
+    with _signals_held(), dask.config.set({_ENVIRON_KEY: environ}):
         cluster = distributed.LocalCluster(
             n_workers=n,
             threads_per_worker=1,
@@ -206,12 +207,50 @@ def dask_client(
             dashboard_address=None,
             silence_logs=logging.ERROR,
         )
-    local = distributed.Client(cluster)
+        local = distributed.Client(cluster)
     try:
         yield local
     finally:
-        local.close()
-        cluster.close()
+        with _signals_held():
+            local.close()
+            cluster.close()
+
+
+_HELD_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ctrl-C, SIGTERM and SIGHUP held back while the block runs, then handled as usual.
+
+    A local cluster interrupted while it starts (or stops) is left half made: its workers keep
+    running and Dask's exit handler fails with a long traceback. Held back, the signal is
+    handled once the cluster is whole, by the handler that was in place (the command line's
+    turns it into a clean stop), and the cluster is closed on the way out.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    wanted = [getattr(signal, name) for name in _HELD_SIGNALS if hasattr(signal, name)]
+    previous = {signum: signal.getsignal(signum) for signum in wanted}
+
+    def hold(signum: int, _frame: object) -> None:
+        caught.append(signum)
+
+    for signum in wanted:
+        signal.signal(signum, hold)
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    if caught:
+        handler = previous[caught[0]]
+        if callable(handler):
+            handler(caught[0], None)
+        elif handler == signal.SIG_DFL:
+            signal.raise_signal(caught[0])
 
 
 def _cores() -> int:
@@ -280,6 +319,7 @@ def _index_of(path: str | os.PathLike[str]) -> Path:
             "parallel VTU) or an .xdmf file (XDMF collection of HDF5 pieces)"
         )
     check_target(index)
+    check_target(pieces_dir(index), directory=True)  # a file or a FIFO in the way: now
     return index
 
 
@@ -330,40 +370,6 @@ def _combine(parts: Partitioning, summaries: list[dict[str, Any]]) -> tuple[floa
     return math.fsum(x["area"] for x in m), quality
 
 
-def _commit(folder: Path, index: Path, write_index: Callable[[Path], Any]) -> None:
-    """Put the finished pieces folder and the index in place; old ones go only on success."""
-    target = pieces_dir(index)
-    old = None
-    if target.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=index.parent))
-        os.rmdir(old)
-        os.rename(target, old)
-    try:
-        os.chmod(folder, 0o777 & ~_umask())
-        os.rename(folder, target)
-        with atomic_file(index) as temporary:
-            write_index(temporary)
-    except BaseException:
-        if target.exists():
-            shutil.rmtree(target, ignore_errors=True)
-        if old is not None:
-            os.rename(old, target)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
-def _umask() -> int:
-    try:
-        with open("/proc/self/status", encoding="ascii") as status:
-            for line in status:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except OSError:
-        pass
-    return 0o022
-
-
 def refine_to(
     target: Domain | Mesh,
     level: int,
@@ -385,8 +391,10 @@ def refine_to(
         Levels of refinement (>= 1), as :func:`blockmesh.refine`.
     path : str or PathLike
         The index: ``out.pvtu`` (VTU pieces) or ``out.xdmf`` (HDF5 pieces); the pieces go to
-        ``out.pvtu.pieces/`` (``out.xdmf.pieces/``). Written only when every piece is: a
-        failure leaves nothing new.
+        ``out.pvtu.pieces/<8 hex digits>/`` (``out.xdmf.pieces/...``), a new folder at every
+        write. The index is renamed in last (the commit), when every piece is written: a failure
+        or a kill at any step leaves the old index with its pieces, and the next write removes
+        what it left.
     partitions : int, optional
         Number of pieces (default: one per worker).
     client : dask.distributed.Client, optional
@@ -412,10 +420,7 @@ def refine_to(
         n_workers = len(active.scheduler_info().get("workers", {})) or 1
         parts = partition(target, level, partitions if partitions is not None else n_workers)
         _check_workers(parts, active)
-        folder = Path(
-            tempfile.mkdtemp(prefix=f".{pieces_dir(index).name}.", suffix=".tmp", dir=index.parent)
-        )
-        try:
+        with atomic_with_folder(index, pieces_dir(index)) as (index_tmp, folder, generation):
             scattered = active.scatter(parts, broadcast=True, hash=False)
             futures = [
                 active.submit(write_piece_task, scattered, p, str(folder), index.name, pure=False)
@@ -424,7 +429,8 @@ def refine_to(
             summaries = _run_tasks(futures, progress)
             area, quality = _combine(parts, summaries)
             names = [piece_name(index, p) for p in range(parts.n_partitions)]
-            sources = [f"{pieces_dir(index).name}/{name}" for name in names]
+            where = f"{pieces_dir(index).name}/{generation}"
+            sources = [f"{where}/{name}" for name in names]
             meta = {
                 "blockmesh_partitioned": 1,
                 "name": parts.base.name,
@@ -436,15 +442,12 @@ def refine_to(
                 "nodes_total": parts.n_nodes,
             }
             if index.suffix.lower() == ".pvtu":
-                _commit(folder, index, lambda tmp: write_pvtu_index(tmp, sources, meta))
+                write_pvtu_index(index_tmp, sources, meta)
             else:
-                _commit(folder, index, lambda tmp: write_xdmf_index(tmp, sources, summaries, meta))
-        finally:
-            if folder.exists():
-                shutil.rmtree(folder, ignore_errors=True)
+                write_xdmf_index(index_tmp, sources, summaries, meta)
     return PartitionedMesh(
         path=index,
-        pieces=tuple(pieces_dir(index) / name for name in names),
+        pieces=tuple(pieces_dir(index) / generation / name for name in names),
         level=parts.base.level + parts.steps,
         cells=parts.n_cells,
         nodes=parts.n_nodes,

@@ -2,10 +2,11 @@
 
 Layout, for an index ``out.pvtu`` (or ``out.xdmf``)::
 
-    out.pvtu                       the index: ParaView's parallel VTU, one <Piece> per partition
-    out.pvtu.pieces/out_0000.vtu   partition 0, ...
-    out.xdmf                       or an XDMF spatial collection, with
-    out.xdmf.pieces/out_0000.h5    its HDF5 pieces
+    out.pvtu                                the index: ParaView's parallel VTU, one <Piece> per
+                                            partition
+    out.pvtu.pieces/1a2b3c4d/out_0000.vtu   partition 0, ... (a folder of its own per write)
+    out.xdmf                                or an XDMF spatial collection, with
+    out.xdmf.pieces/1a2b3c4d/out_0000.h5    its HDF5 pieces
 
 **VTU pieces** are VTK XML unstructured grids with raw appended binary data (``header_type
 UInt64``, little endian), written array by array in bounded chunks: polygon cells followed by the
