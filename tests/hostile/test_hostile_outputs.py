@@ -151,7 +151,6 @@ def test_a_failed_templated_write_leaves_no_folder(tmp_path):
 
 def test_a_failed_templated_write_removes_the_folders_it_made(tmp_path, monkeypatch, capsys):
     import blockmesh.io
-
     from blockmesh.cli import main
 
     def failing(*_args, **_kwargs):
