@@ -72,7 +72,7 @@ __all__ = [
 MAX_EXPANSION = 64
 #: Decompressed bytes allowed on top of :data:`MAX_EXPANSION` times the files' size, so that a
 #: small file of constant data (a one-cell mesh) is never refused.
-EXPANSION_SLACK = 64 * 2**20
+EXPANSION_SLACK = 16 * 2**20
 #: Bytes inflated at a time.
 _PIECE = 1 << 22
 

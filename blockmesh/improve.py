@@ -49,7 +49,7 @@ from .checks import choice, whole_number
 from .errors import ArgumentError, ArgumentTypeError
 from .geometry import COLLINEAR_SIN_TOL, is_strictly_convex
 from .mesh import Mesh
-from .refinement import refine
+from .refinement import MAX_LEVEL, check_level, refine
 
 __all__ = [
     "QUALITY_RULES",
@@ -386,7 +386,8 @@ def inner_point_rule(
     ...     ).min_angle
     (216, True)
     """
-    level = whole_number(level, "level")
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
+    check_level(target, level)
     mesh = refine(target, 0)
     for _ in range(level):
         child = refine(mesh, 1)
@@ -439,9 +440,10 @@ def refine_with_rule(
     (True, True)
     """
     choice(rule, QUALITY_RULES, "quality rule")
-    level = whole_number(level, "level")
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
     if rule == "paper":
         return refine(target, level, smooth=smooth, max_memory=max_memory)
+    check_level(target, level, max_memory=max_memory)  # refused now, not after some levels
     mesh = refine(target, 0)
     for _ in range(level):
         refined = refine(mesh, 1, smooth=smooth, max_memory=max_memory)

@@ -27,6 +27,8 @@ __all__ = [
     "ProgressBar",
     "add_domain_arguments",
     "check_folders",
+    "check_level_options",
+    "check_range",
     "fill_template",
     "inline_polygon",
     "is_mesh_file",
@@ -265,6 +267,36 @@ def _remove_empty(folders: list[Path]) -> None:
             folder.rmdir()
         except OSError:
             return
+
+
+def check_range(value: int | None, flag: str, minimum: int, maximum: int, why: str = "") -> None:
+    """BlockMeshError now unless ``value`` (if given) is in ``minimum..maximum``.
+
+    Examples
+    --------
+    >>> check_range(10**30, "--level", 0, 10_000, " (beyond any machine)")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.BlockMeshError: --level must be 0..10,000 (beyond any machine), got ...
+    """
+    if value is None or minimum <= value <= maximum:
+        return
+    shown = str(value) if len(str(value)) <= 20 else f"a number of {len(str(abs(value)))} digits"
+    raise BlockMeshError(f"{flag} must be {minimum:,}..{maximum:,}{why}, got {shown}")
+
+
+def check_level_options(args: argparse.Namespace) -> None:
+    """``--level`` and ``--smooth`` (where the command has them) within their bounds."""
+    from ..refinement import MAX_LEVEL, MAX_SMOOTH
+
+    check_range(
+        getattr(args, "level", None), "--level", 0, MAX_LEVEL,
+        " (each level multiplies the cells by 6: level 30 is beyond any machine)",
+    )  # fmt: skip
+    check_range(
+        getattr(args, "smooth", None), "--smooth", 0, MAX_SMOOTH,
+        " (Laplacian sweeps per level: a few cure most distortion)",
+    )  # fmt: skip
 
 
 def plural(count: int, noun: str) -> str:

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..domain import Domain
 from ..io import SPLITS, write
-from ._common import check_folders, print_json, printable
+from ._common import check_folders, check_level_options, print_json, printable
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -53,6 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh convert`` with the parsed ``args``; returns the exit code."""
+    check_level_options(args)
     check_folders(args.output)
     domain = Domain.from_mesh(args.input, name=args.name)
     output = Path(args.output)

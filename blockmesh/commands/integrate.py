@@ -18,7 +18,15 @@ from ..quadrature import (
     integrate_to_tolerance,
     integrate_with_estimate,
 )
-from ._common import add_domain_arguments, print_json, printable, resolve_target
+from ..refinement import MAX_LEVEL
+from ._common import (
+    add_domain_arguments,
+    check_level_options,
+    check_range,
+    print_json,
+    printable,
+    resolve_target,
+)
 from ._partitions import add_partition_arguments, check_partition_arguments
 
 __all__ = ["register", "run"]
@@ -171,6 +179,8 @@ def _level(args: argparse.Namespace, target: Any) -> int | None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh integrate`` with the parsed ``args``; returns the exit code."""
+    check_level_options(args)
+    check_range(args.max_level, "--max-level", 0, MAX_LEVEL)
     target = resolve_target(args)
     exact = exact_integral(target, args.function) if args.exact else None
     result = _integrate(args, target)

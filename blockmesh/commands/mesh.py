@@ -28,6 +28,7 @@ from ._common import (
     ProgressBar,
     add_domain_arguments,
     check_folders,
+    check_level_options,
     fill_template,
     inline_polygon,
     load_target,
@@ -253,10 +254,7 @@ def _fill(pattern: str, mesh: Mesh) -> contextlib.AbstractContextManager[str]:
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
-    if args.level < 0:
-        raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
-    if args.smooth < 0:
-        raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    check_level_options(args)
     check_folders(args.output, args.plot, args.quality_plot)
     if args.output:
         # Fail before meshing: an unknown format or an option it does not take is known now.
@@ -476,6 +474,7 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh mesh`` with the parsed ``args``; returns the exit code."""
+    check_level_options(args)
     if check_partition_arguments(args):
         return _run_partitioned(args)
     options = _options(args)

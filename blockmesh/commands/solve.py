@@ -24,6 +24,7 @@ from ..vem.output import SOLUTION_FORMATS
 from ._common import (
     add_domain_arguments,
     check_folders,
+    check_level_options,
     print_json,
     printable,
     resolve_domain,
@@ -143,10 +144,7 @@ def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str
 
 
 def _check(args: argparse.Namespace) -> None:
-    if args.level < 0:
-        raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
-    if args.smooth < 0:
-        raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    check_level_options(args)
     if args.output and not args.output.lower().endswith((*SOLUTION_FORMATS, ".xmf")):
         raise BlockMeshError(
             f"--output {args.output}: a solution is written to .vtu (ParaView) or .xdmf"

@@ -38,6 +38,7 @@ import contextlib
 import logging
 import math
 import os
+import re
 import signal
 import threading
 import time
@@ -62,7 +63,7 @@ from .files import (
     write_pvtu_index,
     write_xdmf_index,
 )
-from .partition import Partitioning, partition
+from .partition import MAX_PARTITIONS, Partitioning, partition
 from .pieces import piece_node_count
 from .tasks import integrate_piece_task, write_piece_task
 
@@ -70,15 +71,18 @@ if TYPE_CHECKING:
     from ..domain import Domain
 
 __all__ = [
+    "MAX_PARTITIONS",
     "PartitionedMesh",
     "Partitioning",
     "dask_client",
     "gather",
     "integrate",
     "integrate_with_estimate",
+    "max_workers",
     "partition",
     "predict_task_bytes",
     "refine_to",
+    "scheduler_address",
 ]
 
 #: Resident bytes of a worker process with blockmesh imported, before its first piece (measured
@@ -87,6 +91,83 @@ WORKER_BASE_BYTES = 120 * 10**6
 _ENVIRON_KEY = "distributed.nanny.pre-spawn-environ"
 #: Share of a worker's memory limit a task may use: Dask pauses a worker at 80 %.
 _WORKER_SHARE = 0.75
+#: Most local worker processes per core.
+WORKERS_PER_CORE = 4
+#: The schemes of the Dask addresses blockmesh connects to, and the port Dask listens on.
+_SCHEMES = ("tcp", "tls", "ws", "wss")
+_DEFAULT_PORT = 8786
+_LABEL = re.compile(r"(?!-)[A-Za-z0-9-]{1,63}(?<!-)")
+
+
+def max_workers() -> int:
+    """The most local worker processes this machine runs: by its cores and its memory.
+
+    :data:`WORKERS_PER_CORE` per core, and no more than the available memory holds at
+    :data:`WORKER_BASE_BYTES` each (at least one).
+
+    Examples
+    --------
+    >>> max_workers() >= 1
+    True
+    """
+    from ..refinement import available_memory
+
+    return max(1, min(WORKERS_PER_CORE * _cores(), available_memory() // WORKER_BASE_BYTES))
+
+
+def scheduler_address(text: str) -> str:
+    """``text`` as the address of a Dask scheduler, ``SCHEME://HOST:PORT``; checked, not dialled.
+
+    The scheme is one of ``tcp`` (the default), ``tls``, ``ws`` and ``wss``; the host a name of
+    DNS labels or an IP address; the port 1..65535 (default 8786).
+
+    Examples
+    --------
+    >>> scheduler_address("head"), scheduler_address("tls://10.0.0.5:9000")
+    ('tcp://head:8786', 'tls://10.0.0.5:9000')
+    >>> scheduler_address("inproc://x")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ArgumentError: scheduler address 'inproc://x': the scheme 'inproc' is not ...
+    """
+    import ipaddress
+
+    raw = str(text).strip()
+    shown = raw if len(raw) <= 60 else raw[:57] + "..."
+
+    def bad(why: str) -> ArgumentError:
+        return ArgumentError(f"scheduler address {shown!r}: {why}")
+
+    if not raw:
+        raise bad("it is empty; give HOST:PORT or tcp://HOST:PORT")
+    scheme, sep, rest = raw.partition("://")
+    if not sep:
+        scheme, rest = "tcp", raw
+    if scheme not in _SCHEMES:
+        raise bad(f"the scheme {scheme!r} is not one of {', '.join(_SCHEMES)}")
+    if rest.startswith("["):  # [IPv6]:port
+        host, close, port_text = rest[1:].partition("]")
+        if not close or (port_text and not port_text.startswith(":")):
+            raise bad("an IPv6 address is written [ADDRESS]:PORT")
+        port_text = port_text[1:]
+    else:
+        host, _, port_text = rest.partition(":")
+    if port_text and not (port_text.isdigit() and 1 <= int(port_text) <= 65535):
+        raise bad(f"the port {port_text[:20]!r} is not a number in 1..65535")
+    port = int(port_text) if port_text else _DEFAULT_PORT
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        labels = host.rstrip(".").split(".")
+        if not host or len(host) > 253 or not all(_LABEL.fullmatch(label) for label in labels):
+            raise bad(
+                "the host is not a name of letters, digits and hyphens (labels of at most 63, "
+                "253 in all) nor an IP address"
+            ) from None
+        return f"{scheme}://{host}:{port}"
+    shown_host = f"[{address}]" if address.version == 6 else str(address)
+    return f"{scheme}://{shown_host}:{port}"
+
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -173,11 +254,14 @@ def dask_client(
         raise ArgumentError(
             "give workers= (a local cluster) or scheduler= (a running one), not both"
         )
+    if scheduler is not None:
+        scheduler = _reachable(scheduler_address(scheduler))
+    n = _check_local(workers, memory_limit) if scheduler is None else 0
     distributed = _distributed()
     if scheduler is not None:
         try:
             remote = distributed.Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError) as error:
+        except (OSError, TimeoutError, ValueError) as error:
             raise ResourceError(
                 f"cannot reach the Dask scheduler at {scheduler}: {error}"
             ) from None
@@ -186,7 +270,6 @@ def dask_client(
         finally:
             remote.close()
         return
-    n = whole_number(workers, "workers", minimum=1) if workers is not None else _cores()
     import dask
 
     # Dask starts workers with MALLOC_TRIM_THRESHOLD_ set, which also fixes glibc's mmap
@@ -251,6 +334,46 @@ def _signals_held() -> Iterator[None]:
             handler(caught[0], None)
         elif handler == signal.SIG_DFL:
             signal.raise_signal(caught[0])
+
+
+def _reachable(address: str) -> str:
+    """``address`` if its host name resolves; ResourceError now (not after a long timeout)."""
+    import socket
+
+    host = address.split("://", 1)[1].rsplit(":", 1)[0].strip("[]")
+    try:
+        socket.getaddrinfo(host, None)
+    except (OSError, UnicodeError) as error:
+        raise ResourceError(
+            f"cannot reach the Dask scheduler at {address}: its host does not resolve ({error})"
+        ) from None
+    return address
+
+
+def _check_local(workers: int | None, memory_limit: int | str | None) -> int:
+    """The number of local workers, checked with their memory limit against the machine."""
+    from ..refinement import available_memory, format_bytes
+
+    most = max_workers()
+    if workers is None:
+        n = min(_cores(), most)
+    else:
+        n = whole_number(workers, "workers", minimum=1)
+        if n > most:
+            raise ResourceError(
+                f"workers={n:,} is more than this machine runs: at most {most} "
+                f"({WORKERS_PER_CORE} per core on {_cores()} cores, each worker needing about "
+                f"{format_bytes(WORKER_BASE_BYTES)} of the {format_bytes(available_memory())} "
+                "available)"
+            )
+    if isinstance(memory_limit, bool) or (
+        isinstance(memory_limit, int | float) and memory_limit < WORKER_BASE_BYTES
+    ):
+        raise ArgumentError(
+            f"memory_limit={memory_limit!r} bytes per worker is less than a worker needs "
+            f"({format_bytes(WORKER_BASE_BYTES)}); give bytes, e.g. 2_000_000_000 or '2GB'"
+        )
+    return n
 
 
 def _cores() -> int:

@@ -42,10 +42,12 @@ from ..topology import boundary_slots, cell_neighbours
 if TYPE_CHECKING:
     from ..domain import Domain
 
-__all__ = ["MAX_TASK_STEPS", "Partitioning", "partition"]
+__all__ = ["MAX_PARTITIONS", "MAX_TASK_STEPS", "Partitioning", "partition"]
 
 #: Levels one task refines its units at most (the template of 7 levels is about 17 MB).
 MAX_TASK_STEPS = 7
+#: Most partitions of one mesh (each is a task, a file and a piece of the index).
+MAX_PARTITIONS = 10_000
 #: The largest partition may hold this many times the cells of the smallest.
 _BALANCE = 1.25
 
@@ -143,7 +145,7 @@ def partition(target: Domain | Mesh, level: int, partitions: int) -> Partitionin
         For a level below 1 or more partitions than the mesh one level below has cells.
     """
     level = whole_number(level, "level")
-    partitions = whole_number(partitions, "partitions", minimum=1)
+    partitions = whole_number(partitions, "partitions", minimum=1, maximum=MAX_PARTITIONS)
     coarse = target if isinstance(target, Mesh) else target.block_mesh()
     if level < 1:
         raise ArgumentError("a partitioned refinement needs level >= 1 (level 0 is the blocks)")

@@ -192,6 +192,38 @@ def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:
     return arr.astype(np.int64, copy=False)
 
 
+def _names(value: Any, what: str, where: str) -> tuple[str, ...] | None:
+    """Names read from a file as a tuple of str (None stays None); ExportError otherwise."""
+    if value is None:
+        return None
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, list | tuple) or not all(isinstance(v, str) for v in value):
+        raise ExportError(f"{where}: the {what} are not a list of strings")
+    return tuple(value)
+
+
+def _level(value: Any, cells: int, where: str) -> int:
+    """A stored level, checked: a whole number with ``6**level <= cells`` (0 for no cells)."""
+    if isinstance(value, np.ndarray) and value.size == 1:
+        value = value.reshape(-1)[0].item()
+    if isinstance(value, float) and value.is_integer() and abs(value) < 2**62:
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ExportError(f"{where}: the stored level {value!r:.40} is not a whole number")
+    level = int(value)
+    most = 0
+    while 6 ** (most + 1) <= cells:
+        most += 1
+    if not 0 <= level <= most:
+        shown = str(level) if len(str(level)) <= 20 else f"of {len(str(abs(level)))} digits"
+        raise ExportError(
+            f"{where}: the stored level {shown} is impossible for {cells:,} cells (a mesh of level "
+            f"L has at least 6^L cells: at most level {most} here)"
+        )
+    return level
+
+
 def _read_only(arr: np.ndarray) -> np.ndarray:
     """``arr`` made read-only: the Mesh takes it over without copying.
 
@@ -225,8 +257,12 @@ def mesh_from_arrays(
     region ``"domain"``; missing boundary edges are found from the cells and put in one patch
     ``"boundary"``. Shapes, index ranges and the mesh itself (orientation, boundary) are checked;
     ``where`` names the file in the :class:`ExportError` raised when they are wrong. The arrays
-    are taken over (made read-only), not copied.
+    are taken over (made read-only), not copied. ``level`` must be a whole number a mesh of these
+    cells can have: ``6**level <= M`` (a block mesh refined ``level`` times has ``6**level``
+    times its cells); names must be strings; coordinates finite.
     """
+    region_names = _names(region_names, "region names", where)
+    patch_names = _names(patch_names, "patch names", where)
     points = np.asarray(points)
     if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
         raise ExportError(f"{where}: the points have shape {points.shape}, expected (N, 2)")
@@ -281,6 +317,10 @@ def mesh_from_arrays(
         )
     if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
+    level = _level(level, m, where)
+    if not np.all(np.isfinite(points)):
+        bad = int(np.flatnonzero(~np.all(np.isfinite(points), axis=1))[0])
+        raise ExportError(f"{where}: point {bad} has a coordinate that is not a finite number")
     try:
         return Mesh(
             points=_read_only(points),

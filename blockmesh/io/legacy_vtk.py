@@ -10,7 +10,9 @@ format an array name cannot hold white space, so names are percent-encoded as VT
 (``outer%20wall``: VTK and ParaView show ``outer wall``).
 
 Reading: the files blockmesh writes are read straight into the mesh's arrays
-(:mod:`blockmesh.io.vtk_stream`); other files, and damaged ones, with meshio.
+(:mod:`blockmesh.io.vtk_stream`; a damaged one is an error naming the section); other files with
+meshio, in a child process with memory and time limits (:mod:`blockmesh.io.sandbox`), once every
+binary section's announced size has been checked against the file.
 
 Version 5.1 (offsets and connectivity) is what meshio and VTK 9 write; readers: VTK >= 9
 (ParaView >= 5.9), meshio. Use :mod:`blockmesh.io.vtu` for anything newer.
@@ -33,17 +35,19 @@ b'# vtk DataFile Version 5.1'
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ..atomic import atomic_file, scratch_file
+from ..bounded import open_regular
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, mesh_from_arrays
+from .sandbox import read_with_meshio
 from .vtk_stream import read_stream
 from .vtu import field_data, meshio_arrays, meshio_mesh, own_arrays, padded_arrays
 
@@ -142,11 +146,11 @@ def _check_sizes(path: Path, where: str) -> None:
     The sections are walked by their headers (each payload is skipped, not read; the cell
     offsets are checked), so a damaged count is caught before a reader allocates for it.
     """
-    size = path.stat().st_size
-    with open(path, "rb") as f:
+    with open_regular(path) as f:
+        size = os.fstat(f.fileno()).st_size
         for _ in range(2):
-            f.readline()
-        if f.readline().strip().upper() != b"BINARY":
+            f.readline(1 << 16)
+        if f.readline(1 << 16).strip().upper() != b"BINARY":
             return
 
         def skip(count: int, kind: str, line: bytes) -> None:
@@ -162,7 +166,7 @@ def _check_sizes(path: Path, where: str) -> None:
 
         items = 0
         try:
-            while line := f.readline():
+            while line := f.readline(1 << 16):
                 words = line.split()
                 if not words:
                     continue
@@ -173,7 +177,7 @@ def _check_sizes(path: Path, where: str) -> None:
                     skip(items, words[1].decode().lower(), line)
                 elif key == b"CELLS":
                     items = int(words[1])  # the offsets; the connectivity count is words[2]
-                    offsets = f.readline()
+                    offsets = f.readline(1 << 16)
                     kind = offsets.split()[1].decode().lower()
                     start = f.tell()
                     skip(items, kind, offsets)
@@ -186,7 +190,7 @@ def _check_sizes(path: Path, where: str) -> None:
                             or np.any(np.diff(values) < 0)
                         ):
                             raise ExportError(f"{where}: the cell offsets are damaged")
-                    connectivity = f.readline()
+                    connectivity = f.readline(1 << 16)
                     skip(int(words[2]), connectivity.split()[1].decode().lower(), connectivity)
                 elif key == b"CELL_TYPES":
                     skip(int(words[1]), "int", line)
@@ -209,30 +213,23 @@ def read_vtk(path: Path) -> Mesh:
     where = str(path)
     try:
         _check_sizes(Path(path), where)
-        with open(path, "rb") as f:
+        with open_regular(path) as f:
             head = f.read(1 << 20)
     except ExportError:
         raise
-    except Exception as exc:  # an unreadable file
+    except OSError as exc:  # an unreadable file
         raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
     fields = _read_field(head, where)
     raw = fields.get("blockmesh")
     meta = decode_metadata(None if raw is None else raw.astype(np.uint8), where)
-    parts = read_stream(Path(path)) if "blockmesh" in fields else None
+    parts = read_stream(Path(path)) if "blockmesh" in fields else None  # ExportError if damaged
     if parts is not None:  # a file blockmesh wrote: read straight into the arrays
         arrays = padded_arrays(
             parts["points"], parts["cells"], parts["edges"], parts["cell_data"], fields, meta
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    import meshio
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            vm = meshio.vtk.read(str(path))  # not meshio.read: it exits the interpreter on errors
-    except Exception as exc:  # meshio raises many kinds
-        raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
+    vm = read_with_meshio(path, "vtk")  # another tool's file: in a child process, with limits
     vm.field_data = {**vm.field_data, **fields}
     arrays = meshio_arrays(vm, meta, where)
     del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built

@@ -21,8 +21,9 @@ blockmesh reads back. meshio does not write field data, so it is added to the XM
 has written the file; meshio and VTK read it back.
 
 Reading: the files blockmesh writes are decoded in chunks straight into the mesh's arrays
-(:mod:`blockmesh.io.vtu_stream`, about 1.7x the mesh at its peak); other VTU files, and damaged
-ones, are read with meshio.
+(:mod:`blockmesh.io.vtu_stream`, about 1.7x the mesh at its peak; a damaged one is an error naming
+the array); other VTU files are read with meshio in a child process with memory and time limits
+(:mod:`blockmesh.io.sandbox`).
 
 Compression: ``"zlib"`` (the default: ParaView reads it everywhere, about 3x smaller for little
 time), ``"lzma"`` (smaller still, several times slower), ``"none"`` (raw base64, fastest).
@@ -44,7 +45,6 @@ Examples
 from __future__ import annotations
 
 import shutil
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
@@ -58,6 +58,7 @@ from ..atomic import atomic_file, scratch_file
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
+from .sandbox import read_with_meshio
 from .vtu_stream import read_stream
 
 __all__ = [
@@ -286,11 +287,11 @@ def read_vtu(path: Path) -> Mesh:
 
     Files from elsewhere are read too when their polygons are all pentagons: missing data gets
     the defaults of :func:`blockmesh.io._common.mesh_from_arrays`. The files blockmesh wrote are
-    read in chunks straight into the mesh's arrays (:mod:`blockmesh.io.vtu_stream`); others, and
-    damaged ones, with meshio.
+    read in chunks straight into the mesh's arrays (:mod:`blockmesh.io.vtu_stream`); others with
+    meshio, in a child process with memory and time limits (:mod:`blockmesh.io.sandbox`).
     """
     where = str(path)
-    parts = read_stream(Path(path))
+    parts = read_stream(Path(path))  # ExportError for a damaged blockmesh file
     if parts is not None:
         meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
         arrays = padded_arrays(
@@ -298,14 +299,7 @@ def read_vtu(path: Path) -> Mesh:
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    import meshio
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            vm = meshio.vtu.read(str(path))  # not meshio.read: it exits the interpreter on errors
-    except Exception as exc:  # meshio raises many kinds
-        raise ExportError(f"cannot read {where} as VTU: {exc}") from None
+    vm = read_with_meshio(path, "vtu")  # another tool's file: in a child process, with limits
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
     arrays = meshio_arrays(vm, meta, where)
