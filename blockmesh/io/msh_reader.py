@@ -495,9 +495,7 @@ def _int_list(value: Any, key: str, where: str) -> np.ndarray:
     return np.array(value, dtype=np.int64)
 
 
-def _node_index(
-    node_tags: np.ndarray, where: str
-) -> Callable[[np.ndarray, str, str], np.ndarray]:
+def _node_index(node_tags: np.ndarray, where: str) -> Callable[[np.ndarray, str, str], np.ndarray]:
     """A function mapping node tags to node indices (tag - 1 when the tags are 1..N in order).
 
     The tags it is given are the parsed file's own arrays: tag - 1 is computed in place (no copy
