@@ -697,12 +697,25 @@ def gather(path: str | os.PathLike[str]) -> Mesh:
     order and their boundary edges to their places in the whole boundary list: the result equals
     the serial refinement's Mesh. Needs the whole mesh's memory, so it is for meshes that fit.
     """
-    pieces = [read_piece(source) for source in read_pieces(Path(path))]
-    if not pieces:
-        raise ExportError(f"{path} names no pieces")
-    first = pieces[0]
-    if sorted(p.index for p in pieces) != list(range(first.n_pieces)):
-        raise ExportError(f"{path}: the pieces are not 0..{first.n_pieces - 1}")
+    from ..bounded import reading
+
+    with reading(path) as guard:
+        pieces = [read_piece(source) for source in read_pieces(Path(path))]
+        if not pieces:
+            raise ExportError(f"{path} names no pieces")
+        first = pieces[0]
+        if sorted(p.index for p in pieces) != list(range(first.n_pieces)) or any(
+            (p.n_nodes_total, p.n_boundary_total, p.n_cells_total)
+            != (first.n_nodes_total, first.n_boundary_total, first.n_cells_total)
+            for p in pieces
+        ):
+            raise ExportError(
+                f"{path}: the pieces are not 0..{first.n_pieces - 1} of one mesh (an interrupted "
+                "copy? write the mesh again)"
+            )
+        if sum(p.mesh.n_cells for p in pieces) != first.n_cells_total:
+            raise ExportError(f"{path}: the pieces do not add up to the mesh's cells")
+        guard.allocate(17 * first.n_nodes_total + 24 * first.n_boundary_total, "the gathered mesh")
     pieces.sort(key=lambda p: p.index)
     points = np.empty((first.n_nodes_total, 2))
     seen = np.zeros(first.n_nodes_total, dtype=bool)

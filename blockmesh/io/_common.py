@@ -248,7 +248,7 @@ def mesh_from_arrays(
     boundary_edges: np.ndarray | None = None,
     boundary_patch: np.ndarray | None = None,
     patch_names: tuple[str, ...] | list[str] | None = None,
-    level: int = 0,
+    level: Any = 0,
     name: str = "",
 ) -> Mesh:
     """A :class:`Mesh` from arrays read from a file, with defaults for what the file lacks.
@@ -318,9 +318,15 @@ def mesh_from_arrays(
     if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
     level = _level(level, m, where)
-    if not np.all(np.isfinite(points)):
-        bad = int(np.flatnonzero(~np.all(np.isfinite(points), axis=1))[0])
-        raise ExportError(f"{where}: point {bad} has a coordinate that is not a finite number")
+    from ..validate import MAX_COORDINATE
+
+    fine = np.all(np.abs(points) <= MAX_COORDINATE, axis=1)  # NaN fails too
+    if not np.all(fine):
+        bad = int(np.flatnonzero(~fine)[0])
+        raise ExportError(
+            f"{where}: point {bad} has the coordinates {points[bad].tolist()}: not finite numbers "
+            f"of at most {MAX_COORDINATE:g} in magnitude"
+        )
     try:
         return Mesh(
             points=_read_only(points),

@@ -66,6 +66,7 @@ from typing import Any
 import numpy as np
 
 from ..atomic import atomic_with_data
+from ..bounded import confined, current_guard, open_regular, parse_xml
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
@@ -205,8 +206,20 @@ def write_xdmf(mesh: Mesh, path: Path, *, compression: str = "none") -> Path:
 
 
 # ----------------------------------------------------------------------------------- reading
+#: HDF5 filters a dataset may use (blockmesh writes gzip with shuffle); others are refused.
+_FILTERS = frozenset({"gzip", "shuffle", "fletcher32"})
+
+
 class _Heavy:
-    """The HDF5 files a light file names, opened once each (and their blockmesh metadata)."""
+    """The HDF5 files a light file names, opened once each (and their blockmesh metadata).
+
+    A file must be a regular file in the light file's folder (:func:`blockmesh.bounded.confined`,
+    one message whatever the reason, so the light file cannot probe for files elsewhere); a
+    dataset must be reached by hard links only (no external links, external storage or virtual
+    datasets: each could read another file), hold numbers, and store what it declares: all of
+    its bytes when uncompressed, every chunk when chunked, with gzip at most; its size is
+    checked against the read's memory limit before it is read.
+    """
 
     def __init__(self, base: Path, where: str, write_id: str | None) -> None:
         self.base, self.where, self.write_id = base, where, write_id
@@ -215,27 +228,82 @@ class _Heavy:
     def dataset(self, source: str) -> np.ndarray:
         import h5py
 
-        name, _, dataset = source.partition(":")
-        file = (self.base / name).resolve()
+        name, _, dataset = source.strip().partition(":")
+        file = confined(self.base, name, self.where, "HDF5 file")
         if file not in self.files:
-            if not file.exists():
-                raise ExportError(
-                    f"{self.where} refers to {file}, which does not exist (copy the .h5 file "
-                    "with the .xdmf file, or write the mesh again)"
-                )
+            guard = current_guard(self.where)
             try:
                 self.files[file] = h5py.File(file, "r")
-            except OSError as exc:
-                raise ExportError(f"cannot read {file} as HDF5: {exc}") from None
+            except Exception as exc:  # h5py raises OSError and others for a damaged file
+                raise ExportError(f"cannot read {file} as HDF5: {_short(exc)}") from None
+            guard.opened(file.stat().st_size)
             self._check_pair(file)
         try:
-            if dataset not in self.files[file]:
-                raise ExportError(f"{self.where}: {file} has no dataset {dataset}")
-            return self.files[file][dataset][()]
+            node = self._node(self.files[file], dataset, file)
+            self._check_dataset(node, dataset, file)
+            return node[()]
         except ExportError:
             raise
         except Exception as exc:  # h5py raises many kinds for a damaged file
-            raise ExportError(f"cannot read {dataset} from {file}: {exc}") from None
+            raise ExportError(f"cannot read {dataset} from {file}: {_short(exc)}") from None
+
+    def _node(self, f: Any, dataset: str, file: Path) -> Any:
+        """The dataset ``dataset`` of ``f``, reached through hard links only."""
+        import h5py
+
+        parts = [p for p in dataset.split("/") if p]
+        if not parts:
+            raise ExportError(f"{self.where}: the data item names no dataset in {file.name}")
+        group = f
+        for k, part in enumerate(parts):
+            path = "/".join(parts[: k + 1])
+            link = group.get(part, getlink=True)
+            if link is None:
+                raise ExportError(f"{self.where}: {file.name} has no dataset /{path}")
+            if not isinstance(link, h5py.HardLink):
+                raise ExportError(
+                    f"{self.where}: /{path} in {file.name} is a {type(link).__name__} (blockmesh "
+                    "follows no links out of a data file)"
+                )
+            group = group[part]
+        if not isinstance(group, h5py.Dataset):
+            raise ExportError(f"{self.where}: /{'/'.join(parts)} in {file.name} is not a dataset")
+        return group
+
+    def _check_dataset(self, node: Any, dataset: str, file: Path) -> None:
+        what = f"{self.where}: the dataset {dataset} of {file.name}"
+        if node.dtype.kind not in "iuf" or node.dtype.itemsize > 8:
+            raise ExportError(f"{what} holds {node.dtype} values, not numbers")
+        if node.is_virtual or node.external:
+            raise ExportError(f"{what} keeps its data in other files (blockmesh reads none)")
+        unknown = sorted(set(node._filters) - _FILTERS)
+        if unknown:
+            raise ExportError(
+                f"{what} is stored with the filter {unknown[0]} (blockmesh reads gzip)"
+            )
+        nbytes = int(node.size) * node.dtype.itemsize
+        stored = int(node.id.get_storage_size())
+        guard = current_guard(self.where)
+        if node.chunks is None:
+            if stored != nbytes:
+                raise ExportError(
+                    f"{what} declares {nbytes:,} bytes but stores {stored:,} (damaged, or made to "
+                    "expand)"
+                )
+        else:
+            chunks = 1
+            for size, chunk in zip(node.shape, node.chunks, strict=True):
+                chunks *= -(-size // chunk)
+            if int(node.id.get_num_chunks()) != chunks:
+                raise ExportError(
+                    f"{what} declares {chunks:,} chunks but stores {node.id.get_num_chunks():,} "
+                    "(damaged, or made to expand)"
+                )
+            if not node._filters and stored < nbytes:
+                raise ExportError(f"{what} declares {nbytes:,} bytes but stores {stored:,}")
+            if node._filters:
+                guard.expanded(nbytes, what.split(": ", 1)[1])
+        guard.allocate(nbytes, f"the dataset {dataset}")
 
     def _check_pair(self, file: Path) -> None:
         """ExportError if ``file`` was written by another write than the light file."""
@@ -257,10 +325,22 @@ class _Heavy:
             f.close()
 
 
+def _short(error: BaseException) -> str:
+    """An exception's message on one line, at most 300 characters."""
+    text = " ".join(str(error).split())
+    return text if len(text) <= 300 else text[:297] + "..."
+
+
 def _read_item(item: ET.Element, heavy: _Heavy) -> np.ndarray:
     fmt = item.get("Format", "XML")
     text = (item.text or "").strip()
-    dims = tuple(int(s) for s in item.get("Dimensions", "").split())
+    try:
+        dims = tuple(int(s) for s in item.get("Dimensions", "").split())
+    except ValueError:
+        raise ExportError(
+            f"{heavy.where}: a DataItem has Dimensions={item.get('Dimensions')!r:.60}, not whole "
+            "numbers"
+        ) from None
     if fmt == "XML":
         kind = np.float64 if item.get("NumberType", "Float") == "Float" else np.int64
         arr = parse_numbers(text.encode(), kind, f"{heavy.where}: a DataItem")
@@ -269,6 +349,13 @@ def _read_item(item: ET.Element, heavy: _Heavy) -> np.ndarray:
     else:
         raise ExportError(f"{heavy.where}: DataItem Format={fmt!r} is not supported (HDF or XML)")
     return arr.reshape(dims) if dims and int(np.prod(dims)) == arr.size else arr
+
+
+def _rows(values: np.ndarray, width: int, what: str, where: str) -> np.ndarray:
+    """``values`` as rows of ``width``; ExportError when their number does not divide."""
+    if width < 1 or values.size % width:
+        raise ExportError(f"{where}: {what} hold {values.size:,} numbers, not rows of {width}")
+    return values.reshape(-1, width)
 
 
 def _mixed(top: np.ndarray, n_elements: int, where: str) -> tuple[np.ndarray, np.ndarray]:
@@ -300,10 +387,13 @@ def read_xdmf(path: Path) -> Mesh:
     """
     path = Path(path).absolute()
     where = str(path)
-    try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as exc:
-        raise ExportError(f"cannot read {where} as XDMF: {exc}") from None
+    guard = current_guard(where)
+    with open_regular(path) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        guard.allocate(8 * size, "the XML tree")  # expat's tree: a few times the text
+        data = handle.read()
+    root = parse_xml(data, where)
+    del data
     info = root.find(".//Information[@Name='blockmesh']")
     meta = decode_metadata(info.get("Value") if info is not None else None, where)
     cells_grid = lines_grid = None
@@ -346,8 +436,13 @@ def read_xdmf(path: Path) -> Mesh:
             attribute(cells_grid, a) for a in ("block_id", "parent", "region")
         )
         if top_el.get("TopologyType", top_el.get("Type", "")).lower() == "mixed":
-            n_elements = int(top_el.get("NumberOfElements", "-1"))
-            cells, edges = _mixed(item(top_el, "the topology"), n_elements, where)
+            number = top_el.get("NumberOfElements", "")
+            if not number.strip().isdigit():
+                raise ExportError(
+                    f"{where}: the Mixed topology has NumberOfElements={number!r:.40}, not a whole "
+                    "number"
+                )
+            cells, edges = _mixed(item(top_el, "the topology"), int(number), where)
             m = cells.shape[0]
             block_id, parent, region = (
                 None if a is None else a[:m].copy() for a in (block_id, parent, region)
@@ -355,14 +450,16 @@ def read_xdmf(path: Path) -> Mesh:
             patch = attribute(cells_grid, "patch")
             patch = None if patch is None else patch[m:].copy()
         else:
-            cells = item(top_el, "the polygons").reshape(-1, 5)
+            cells = _rows(item(top_el, "the polygons"), 5, "the polygons", where)
             if lines_grid is not None:
-                edges = item(lines_grid.find("Topology"), "the boundary lines").reshape(-1, 2)
+                edges = _rows(
+                    item(lines_grid.find("Topology"), "the boundary lines"), 2, "the lines", where
+                )
                 patch = attribute(lines_grid, "patch")
             elif meta:
                 edges = np.empty((0, 2), dtype=np.int64)
         return mesh_from_arrays(
-            points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
+            _rows(points, points.shape[-1] if points.ndim == 2 else 2, "the points", where),
             cells,
             where=where,
             block_id=block_id,
