@@ -92,9 +92,21 @@ def _circle_fields(circle: object, what: str) -> tuple[tuple[float, float], floa
     centre = _point(circle["center"], f"{what}'s center")
     radius = circle["radius"]
     if isinstance(radius, bool) or not isinstance(radius, numbers.Real):
-        raise DomainFormatError(f"{what}'s radius must be a number, got {radius!r}")
-    if not (math.isfinite(float(radius)) and float(radius) > 0):
-        raise DomainError(f"{what}'s radius must be a finite number > 0, got {radius!r}")
+        raise DomainFormatError(f"{what}'s radius must be a number, got {radius!r:.60}")
+    try:
+        size = float(radius)
+    except OverflowError:
+        size = math.inf
+    if not (math.isfinite(size) and size > 0):
+        raise DomainError(f"{what}'s radius must be a finite number > 0, got {radius!r:.60}")
+    from .validate import MAX_COORDINATE, MIN_EXTENT
+
+    if max(abs(centre[0]), abs(centre[1])) + size > MAX_COORDINATE or size < MIN_EXTENT:
+        raise DomainError(
+            f"{what} (center {centre}, radius {size:g}) reaches beyond {MAX_COORDINATE:g} or is "
+            f"smaller than {MIN_EXTENT:g}: coordinates must stay within {MAX_COORDINATE:g} and "
+            f"a domain span at least {MIN_EXTENT:g} (change units)"
+        )
     sides = circle.get("sides", CIRCLE_SIDES)
     if (
         isinstance(sides, bool)
@@ -144,6 +156,15 @@ def curved_polygon(
     if circles is not None:
         if isinstance(circles, Mapping | str) or not isinstance(circles, Iterable):
             raise DomainFormatError("circles must be a list of tables (one per circular hole)")
+        from .decompose.polygon import check_corner_count
+
+        circles = list(circles)
+
+        def sides_of(circle: object) -> int:
+            sides = circle.get("sides") if isinstance(circle, Mapping) else None
+            return sides if isinstance(sides, int) and 3 <= sides <= 64 else CIRCLE_SIDES
+
+        check_corner_count(sum(len(r) for r in rings) + sum(sides_of(c) for c in circles))
         for k, circle in enumerate(circles):
             centre, radius, sides, patch = _circle_fields(circle, f"circle {k}")
             ring = len(rings)

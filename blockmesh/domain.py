@@ -378,6 +378,10 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
+        from .decompose.polygon import check_corner_count
+
+        holes = _hole_list(holes) if holes is not None else []
+        check_corner_count(sum(len(r) if hasattr(r, "__len__") else 0 for r in (coords, *holes)))
         if arcs or circles:  # decomposed through the chords, then curved: blockmesh.curved_polygons
             from .curved_polygons import curved_polygon
 

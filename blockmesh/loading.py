@@ -60,7 +60,10 @@ def parse_polygon_string(text: str, *, what: str = "polygon") -> np.ndarray:
     ...
     blockmesh.errors.DomainFormatError: polygon: token 2 '1;0' is not a pair 'x,y' of numbers ...
     """
+    from .decompose.polygon import check_corner_count
+
     tokens = text.split()
+    check_corner_count(len(tokens), f"the {what}")  # counted before the numbers are parsed
     points = []
     for k, token in enumerate(tokens, start=1):
         parts = token.split(",")
@@ -116,7 +119,15 @@ def load_domain(name_or_path: str | Path) -> Domain:
 def _from_wkt(path: Path) -> Domain:
     import shapely
 
+    from .decompose.polygon import MAX_CORNERS
+
     text = read_text_bounded(path, what="WKT file")
+    if text.count(",") > MAX_CORNERS + 64:  # a comma between corners: counted before parsing
+        raise DomainFormatError(
+            f"{path}: the outline has about {text.count(',') + 1:,} corners; at most "
+            f"{MAX_CORNERS:,} are decomposed, which takes seconds (simplify the outline, or split "
+            "the domain into parts)"
+        )
     try:
         geometry = shapely.from_wkt(text.strip())
     except (shapely.errors.ShapelyError, ValueError) as error:
@@ -129,11 +140,21 @@ def _from_wkt(path: Path) -> Domain:
 def _from_geojson(path: Path) -> Domain:
     import shapely.geometry
 
+    from .decompose.polygon import MAX_CORNERS
+
     text = read_text_bounded(path, what="GeoJSON file")
+    if text.count("[") > MAX_CORNERS + 64:  # a bracket per position: counted before parsing
+        raise DomainFormatError(
+            f"{path}: the outline has about {text.count('['):,} corners; at most "
+            f"{MAX_CORNERS:,} are decomposed, which takes seconds (simplify the outline, or split "
+            "the domain into parts)"
+        )
     try:
-        document = json.loads(text)
+        document = json.loads(text, parse_int=_json_int, parse_constant=_json_constant)
     except (json.JSONDecodeError, RecursionError) as error:
         raise DomainFormatError(f"{path}: not JSON ({error})") from None
+    except ValueError as error:  # a number the hooks refused
+        raise DomainFormatError(f"{path}: {error}") from None
     feature = _one_feature(document, path)
     properties = feature.get("properties") or {}
     if not isinstance(properties, dict):
@@ -141,8 +162,12 @@ def _from_geojson(path: Path) -> Domain:
     geometry = feature.get("geometry")
     if not isinstance(geometry, dict) or "type" not in geometry:
         raise DomainFormatError(f"{path}: the feature has no geometry object")
+    flat = _flat(geometry)
+    from .decompose.polygon import check_corner_count
+
+    check_corner_count(_positions(flat.get("coordinates")), f"{path}: the polygon")
     try:
-        shape = shapely.geometry.shape(_flat(geometry))
+        shape = shapely.geometry.shape(flat)
     except (shapely.errors.ShapelyError, ValueError, TypeError, KeyError, IndexError) as error:
         raise DomainFormatError(f"{path}: the geometry cannot be read ({error})") from None
     name = properties.get("name", path.stem)
@@ -159,6 +184,35 @@ def _from_geojson(path: Path) -> Domain:
             _one_polygon(shape, path), name=name, patches=patches, description=description
         ),
     )
+
+
+#: Most digits of a JSON integer (a coordinate beyond them is no coordinate).
+_JSON_DIGITS = 30
+
+
+def _json_int(text: str) -> int:
+    if len(text.lstrip("-")) > _JSON_DIGITS:
+        raise ValueError(
+            f"an integer of {len(text.lstrip('-'))} digits; numbers have at most {_JSON_DIGITS}"
+        )
+    return int(text)
+
+
+def _json_constant(text: str) -> float:
+    raise ValueError(f"{text} is not a number JSON allows; coordinates must be finite numbers")
+
+
+def _positions(coordinates: Any) -> int:
+    """The number of [x, y] positions in nested GeoJSON coordinates (without recursing deep)."""
+    count, stack = 0, [coordinates]
+    while stack:
+        value = stack.pop()
+        if isinstance(value, list):
+            if value and all(isinstance(v, int | float) for v in value):
+                count += 1
+            else:
+                stack.extend(value)
+    return count
 
 
 def _one_feature(document: Any, path: Path) -> dict[str, Any]:

@@ -168,17 +168,29 @@ def read_domain_file(path: str | Path) -> dict[str, Any]:
     return raw
 
 
+#: A top-level key at the start of a line (``polygon =``), for counting the corners it holds.
+_KEY = re.compile(r"""[ \t]*("[^"\n]*"|'[^'\n]*'|[A-Za-z0-9_-]+)[ \t]*=""")
+#: The keys whose numbers are polygon corners (two each), counted while scanning.
+_CORNER_KEYS = frozenset({"polygon", "holes"})
+
+
 def _check_limits(text: str, source: str) -> None:
-    """Nesting depth and integer size, checked before the TOML parser sees the text.
+    """Nesting depth, integer size and polygon corners, checked before the TOML parser runs.
 
     A small scanner that skips strings and comments: ``[`` and ``{`` in values open a level (a
     ``[table]`` header at the start of a line is not a value); digits runs outside strings are
-    numbers.
+    numbers. The numbers of ``polygon`` and ``holes`` are counted as they are met: more than
+    twice :data:`~blockmesh.decompose.polygon.MAX_CORNERS` is refused at once, before the
+    parser or the geometry sees them.
     """
+    from .decompose.polygon import MAX_CORNERS
+
     depth = 0
     line, column = 1, 0
     i, n = 0, len(text)
     at_line_start = True
+    key = ""
+    corner_numbers = 0
     while i < n:
         c = text[i]
         if c == "\n":
@@ -208,6 +220,10 @@ def _check_limits(text: str, source: str) -> None:
             i = j + len(quote)
             at_line_start = False
             continue
+        if at_line_start and depth == 0 and c not in "[{":
+            found = _KEY.match(text, i)
+            if found is not None:
+                key = found[1].strip("\"'")
         if c in "[{" and not (at_line_start and c == "[" and depth == 0):
             depth += 1
             if depth > MAX_NESTING:
@@ -226,6 +242,15 @@ def _check_limits(text: str, source: str) -> None:
                     f"{source}: the integer at line {line}, column {column} has {digits} digits; "
                     f"numbers in a domain file have at most {MAX_DIGITS}"
                 )
+            if key in _CORNER_KEYS and depth:
+                corner_numbers += 1
+                if corner_numbers > 2 * MAX_CORNERS:
+                    raise DomainFormatError(
+                        f"{source}: the polygon and its holes have more than {MAX_CORNERS:,} "
+                        f"corners (counted up to line {line}); at most {MAX_CORNERS:,} are "
+                        "decomposed, which takes seconds (simplify the outline, or split the "
+                        "domain into parts)"
+                    )
             i += len(token)
             column += len(token) - 1
             at_line_start = False

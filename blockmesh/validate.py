@@ -44,6 +44,7 @@ __all__ = [
     "DEFAULT_REGION",
     "GAP_TOL",
     "MAX_COORDINATE",
+    "MIN_EXTENT",
     "NEAR_TOL",
     "Ring",
     "check_block_shapes",
@@ -70,6 +71,9 @@ GAP_TOL = 1e-11
 NEAR_TOL = 1e-6
 #: Largest coordinate magnitude accepted: squares of coordinate differences must stay finite.
 MAX_COORDINATE = 1e150
+#: Smallest span of a domain's coordinates accepted: its areas (squares of spans, and smaller
+#: still at high levels) must not underflow to zero.
+MIN_EXTENT = 1e-100
 #: Most problems listed in one message.
 _MAX_LISTED = 8
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
@@ -172,6 +176,13 @@ def _checked_values(points: np.ndarray, what: str) -> np.ndarray:
             for i in huge
         ],
     )
+    if points.shape[0] >= 3:
+        span = float(np.max(np.ptp(points, axis=0)))
+        if 0 < span < MIN_EXTENT:
+            raise DomainError(
+                f"the {what} coordinates span only {span:.3g}: below {MIN_EXTENT:g} areas and "
+                "angles underflow in double precision (to 0); scale the domain up (change units)"
+            )
     return points
 
 

@@ -46,6 +46,7 @@ from ..errors import ExportError
 __all__ = [
     "BYTES_PER_SECOND",
     "CPU_SECONDS",
+    "MAX_VTU_ARRAYS",
     "MEMORY_BASE",
     "MEMORY_PER_BYTE",
     "read_with_meshio",
@@ -60,6 +61,8 @@ MEMORY_BASE = 64 * 2**20
 CPU_SECONDS = 6
 #: Bytes meshio reads per CPU second, at the least (it reads 20-100 MB/s).
 BYTES_PER_SECOND = 2 * 2**20
+#: Most data arrays of a VTU file given to meshio, which copies the appended data for each one.
+MAX_VTU_ARRAYS = 1_000
 
 _CHILD = r"""
 import contextlib, io, json, os, resource, sys
@@ -162,6 +165,8 @@ def read_with_meshio(path: str | os.PathLike[str], kind: str = "auto") -> Any:
     path = Path(path)
     where = str(path)
     size = check_regular(path).st_size
+    if kind == "vtu" or (kind == "auto" and path.suffix.lower() == ".vtu"):
+        _count_arrays(path, where)
     memory, cpu = _limits(size)
     if not hasattr(os, "fork") or sys.platform == "win32":  # no setrlimit: read it here
         return _in_process(path, kind)
@@ -204,6 +209,27 @@ def read_with_meshio(path: str | os.PathLike[str], kind: str = "auto") -> Any:
         return _mesh_from_npz(out, where)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+
+
+def _count_arrays(path: Path, where: str) -> None:
+    """ExportError when a VTU file has more than :data:`MAX_VTU_ARRAYS` data arrays.
+
+    meshio copies the rest of the appended data for each array (quadratic time); the tags are
+    counted first, a chunk at a time.
+    """
+    from ..bounded import open_regular
+
+    token, count, tail = b"<DataArray", 0, b""
+    with open_regular(path) as handle:
+        while chunk := handle.read(1 << 22):
+            data = tail + chunk
+            count += data.count(token)
+            tail = data[-(len(token) - 1) :]
+            if count > MAX_VTU_ARRAYS:
+                raise ExportError(
+                    f"cannot read {where}: it has more than {MAX_VTU_ARRAYS:,} data arrays "
+                    "(meshio, which reads other tools' VTU files, takes time quadratic in them)"
+                )
 
 
 def _in_process(path: Path, kind: str) -> Any:
