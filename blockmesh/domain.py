@@ -850,9 +850,14 @@ def _source_table(raw: Any) -> dict[tuple[int, int], tuple[int, int]] | None:
         return None
     table = {}
     for k, row in enumerate(raw):
-        if not isinstance(row, list) or len(row) != 4 or not all(_whole(v) for v in row):
+        if (
+            not isinstance(row, list)
+            or len(row) != 4
+            or not all(_whole(v) and -1 <= int(v) < 2**62 for v in row)
+        ):
             raise DomainFormatError(
-                f"boundary_source row {k} is {row!r}: each row is [a, b, ring, edge], whole numbers"
+                f"boundary_source row {k} is {row!r:.80}: each row is [a, b, ring, edge], whole "
+                "numbers of at least -1"
             )
         table[(int(row[0]), int(row[1]))] = (int(row[2]), int(row[3]))
     return table

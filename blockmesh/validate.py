@@ -742,22 +742,52 @@ def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
     )
 
 
+#: Boundary edges queried for their neighbours at a time (bounds the work before the cap).
+_CONTACT_CHUNK = 256
+
+
 def _contact_pairs(
     local: np.ndarray, start: np.ndarray, stop: np.ndarray, distance: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Pairs of boundary edges within ``distance`` that share no vertex; and the segments."""
+    """Pairs of boundary edges within ``distance`` that share no vertex; and the segments.
+
+    Queried a chunk of edges at a time: more than about 64 pairs per edge means that
+    features far smaller than the domain crowd together (a spike millions of times longer than
+    the rest), which no check separates: a DomainError then, not hours of pairs.
+    """
     segments = shapely.linestrings(np.stack([local[start], local[stop]], axis=1))
-    first, second = shapely.STRtree(segments).query(
-        segments, predicate="dwithin", distance=distance
+    tree = shapely.STRtree(segments)
+    cap = 64 * segments.size + 10_000
+    firsts, seconds, found = [], [], 0
+    for low in range(0, segments.size, _CONTACT_CHUNK):
+        first, second = tree.query(
+            segments[low : low + _CONTACT_CHUNK], predicate="dwithin", distance=distance
+        )
+        first = first + low
+        found += first.size
+        if found > cap:
+            where = fmt_point(local[start[first[0]]])
+            raise DomainError(
+                f"more than {cap:,} pairs of boundary edges come within {distance:g} of the "
+                f"domain's size of each other (near {where} in units of that size): features "
+                "this small for the domain's size cannot be checked apart; simplify the outline "
+                "or mesh the small part on its own"
+            )
+        apart = (
+            (first < second)
+            & (start[first] != start[second])
+            & (start[first] != stop[second])
+            & (stop[first] != start[second])
+            & (stop[first] != stop[second])
+        )
+        firsts.append(first[apart])
+        seconds.append(second[apart])
+    empty = np.empty(0, dtype=np.int64)
+    return (
+        np.concatenate(firsts) if firsts else empty,
+        np.concatenate(seconds) if seconds else empty,
+        segments,
     )
-    apart = (
-        (first < second)
-        & (start[first] != start[second])
-        & (start[first] != stop[second])
-        & (stop[first] != start[second])
-        & (stop[first] != stop[second])
-    )
-    return first[apart], second[apart], segments
 
 
 def _check_contacts(

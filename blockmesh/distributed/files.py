@@ -499,12 +499,12 @@ def read_piece(path: Path) -> Piece:
                 **{name: f"mesh/{name}" for name in _CELL_DATA},
             }
             arrays = {key: heavy.dataset(f"{path.name}:{item}") for key, item in names.items()}
-            raw_meta = next(iter(heavy.files.values())).attrs.get("blockmesh")
+            raw_meta = heavy.metadata(next(iter(heavy.files)))
         finally:
             heavy.close()
         try:
-            meta = json.loads(raw_meta)
-        except (TypeError, ValueError) as error:
+            meta = json.loads(raw_meta or "")
+        except ValueError as error:
             raise ExportError(f"{path}: no blockmesh metadata ({error})") from None
         return _piece_from_arrays(meta, arrays, str(path))
     meta, raw, _, n_cells = _vtu_arrays(path)

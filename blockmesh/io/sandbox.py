@@ -78,10 +78,16 @@ def _vm():
                 return int(line.split()[1]) * 1024
     return 0
 
+def _lower(kind, want):
+    soft, hard = resource.getrlimit(kind)
+    if hard != resource.RLIM_INFINITY:
+        want = min(want, hard)
+    resource.setrlimit(kind, (want, want if hard == resource.RLIM_INFINITY else hard))
+
 used = resource.getrusage(resource.RUSAGE_SELF)
-resource.setrlimit(resource.RLIMIT_AS, (_vm() + memory, _vm() + memory))
+_lower(resource.RLIMIT_AS, _vm() + memory)
 spent = int(used.ru_utime + used.ru_stime) + 1
-resource.setrlimit(resource.RLIMIT_CPU, (spent + cpu, spent + cpu + 2))
+_lower(resource.RLIMIT_CPU, spent + cpu)
 
 def fail(code, text):
     sys.stderr.write(" ".join(str(text).split())[:600] + "\n")

@@ -70,6 +70,7 @@ from ..bounded import confined, current_guard, open_regular, parse_xml
 from ..errors import ExportError
 from ..mesh import Mesh
 from ._common import Format, decode_metadata, encode_metadata, mesh_from_arrays, name_lookup
+from .hdf5_probe import Probe, probe_hdf5
 from .text import parse_numbers
 
 __all__ = ["FORMAT", "read_xdmf", "write_xdmf"]
@@ -126,15 +127,16 @@ def _padded(on_cells: np.ndarray, m: int, eb: int, *, lines: bool = False) -> np
 
 
 def _owned(light: str) -> Callable[[Path], bool]:
-    """Whether an ``.h5`` file is the data file of an earlier write of the light file ``light``."""
+    """Whether an ``.h5`` file is the data file of an earlier write of the light file ``light``.
+
+    Its attribute is read by a child process (:func:`~blockmesh.io.hdf5_probe.probe_hdf5`): a
+    damaged file found in the folder cannot stall the write.
+    """
 
     def owned(path: Path) -> bool:
-        import h5py
-
         try:
-            with h5py.File(path, "r") as f:
-                raw = f.attrs.get("blockmesh")
-        except Exception:  # not an HDF5 file, or a damaged one: not ours to remove
+            raw = probe_hdf5(path, str(path)).attribute
+        except ExportError:  # not an HDF5 file, or a damaged one: not ours to remove
             return False
         if raw is None:
             return False
@@ -214,16 +216,19 @@ class _Heavy:
     """The HDF5 files a light file names, opened once each (and their blockmesh metadata).
 
     A file must be a regular file in the light file's folder (:func:`blockmesh.bounded.confined`,
-    one message whatever the reason, so the light file cannot probe for files elsewhere); a
-    dataset must be reached by hard links only (no external links, external storage or virtual
-    datasets: each could read another file), hold numbers, and store what it declares: all of
-    its bytes when uncompressed, every chunk when chunked, with gzip at most; its size is
-    checked against the read's memory limit before it is read.
+    one message whatever the reason, so the light file cannot probe for files elsewhere). Its
+    structure is first described by a child process (:func:`~blockmesh.io.hdf5_probe.probe_hdf5`:
+    a damaged file can make the HDF5 library loop or crash); a dataset must then be reached by
+    hard links only (no external links, external storage or virtual datasets: each could read
+    another file), hold numbers, and store what it declares: all of its bytes when uncompressed,
+    every chunk when chunked, with gzip at most; its size is checked against the read's memory
+    limit before it is read, in this process.
     """
 
     def __init__(self, base: Path, where: str, write_id: str | None) -> None:
         self.base, self.where, self.write_id = base, where, write_id
         self.files: dict[Path, Any] = {}
+        self.probes: dict[Path, Probe] = {}
 
     def dataset(self, source: str) -> np.ndarray:
         import h5py
@@ -231,60 +236,45 @@ class _Heavy:
         name, _, dataset = source.strip().partition(":")
         file = confined(self.base, name, self.where, "HDF5 file")
         if file not in self.files:
-            guard = current_guard(self.where)
+            self.probes[file] = probe_hdf5(file, self.where)
+            self._check_pair(file)
             try:
                 self.files[file] = h5py.File(file, "r")
             except Exception as exc:  # h5py raises OSError and others for a damaged file
                 raise ExportError(f"cannot read {file} as HDF5: {_short(exc)}") from None
-            guard.opened(file.stat().st_size)
-            self._check_pair(file)
+            current_guard(self.where).opened(file.stat().st_size)
+        key = "/".join(p for p in dataset.split("/") if p)
+        self._check_dataset(self.probes[file].datasets.get(key), key, file)
         try:
-            node = self._node(self.files[file], dataset, file)
-            self._check_dataset(node, dataset, file)
-            return node[()]
-        except ExportError:
-            raise
+            return self.files[file][key][()]
         except Exception as exc:  # h5py raises many kinds for a damaged file
-            raise ExportError(f"cannot read {dataset} from {file}: {_short(exc)}") from None
+            raise ExportError(f"cannot read /{key} from {file}: {_short(exc)}") from None
 
-    def _node(self, f: Any, dataset: str, file: Path) -> Any:
-        """The dataset ``dataset`` of ``f``, reached through hard links only."""
-        import h5py
-
-        parts = [p for p in dataset.split("/") if p]
-        if not parts:
-            raise ExportError(f"{self.where}: the data item names no dataset in {file.name}")
-        group = f
-        for k, part in enumerate(parts):
-            path = "/".join(parts[: k + 1])
-            link = group.get(part, getlink=True)
-            if link is None:
-                raise ExportError(f"{self.where}: {file.name} has no dataset /{path}")
-            if not isinstance(link, h5py.HardLink):
-                raise ExportError(
-                    f"{self.where}: /{path} in {file.name} is a {type(link).__name__} (blockmesh "
-                    "follows no links out of a data file)"
-                )
-            group = group[part]
-        if not isinstance(group, h5py.Dataset):
-            raise ExportError(f"{self.where}: /{'/'.join(parts)} in {file.name} is not a dataset")
-        return group
-
-    def _check_dataset(self, node: Any, dataset: str, file: Path) -> None:
-        what = f"{self.where}: the dataset {dataset} of {file.name}"
-        if node.dtype.kind not in "iuf" or node.dtype.itemsize > 8:
-            raise ExportError(f"{what} holds {node.dtype} values, not numbers")
-        if node.is_virtual or node.external:
-            raise ExportError(f"{what} keeps its data in other files (blockmesh reads none)")
-        unknown = sorted(set(node._filters) - _FILTERS)
-        if unknown:
+    def _check_dataset(self, info: dict[str, Any] | None, key: str, file: Path) -> None:
+        what = f"{self.where}: the dataset /{key} of {file.name}"
+        if not key or info is None:
+            raise ExportError(f"{self.where}: {file.name} has no dataset /{key}")
+        if info.get("link") != "HardLink":
             raise ExportError(
-                f"{what} is stored with the filter {unknown[0]} (blockmesh reads gzip)"
+                f"{what} is reached by a {info.get('link')} (blockmesh follows no links out of a "
+                "data file, and reads datasets only)"
             )
-        nbytes = int(node.size) * node.dtype.itemsize
-        stored = int(node.id.get_storage_size())
+        if info["kind"] not in "iuf" or info["itemsize"] > 8:
+            raise ExportError(f"{what} holds {info['dtype']} values, not numbers")
+        if info["virtual"] or info["external"]:
+            raise ExportError(f"{what} keeps its data in other files (blockmesh reads none)")
+        unknown = sorted(set(info["filters"]) - _FILTERS)
+        if unknown:
+            raise ExportError(f"{what} uses the filter {unknown[0]} (blockmesh reads gzip)")
+        if not info["readable"]:
+            raise ExportError(f"{what} cannot be read (the HDF5 library fails on it)")
+        size = 1
+        for extent in info["shape"]:
+            size *= extent
+        nbytes = size * info["itemsize"]
+        stored = info["stored"]
         guard = current_guard(self.where)
-        if node.chunks is None:
+        if info["chunks"] is None:
             if stored != nbytes:
                 raise ExportError(
                     f"{what} declares {nbytes:,} bytes but stores {stored:,} (damaged, or made to "
@@ -292,33 +282,34 @@ class _Heavy:
                 )
         else:
             chunks = 1
-            for size, chunk in zip(node.shape, node.chunks, strict=True):
-                chunks *= -(-size // chunk)
-            if int(node.id.get_num_chunks()) != chunks:
+            for extent, chunk in zip(info["shape"], info["chunks"], strict=True):
+                chunks *= -(-extent // max(chunk, 1))
+            if info["chunks_stored"] != chunks:
                 raise ExportError(
-                    f"{what} declares {chunks:,} chunks but stores {node.id.get_num_chunks():,} "
+                    f"{what} declares {chunks:,} chunks but stores {info['chunks_stored']:,} "
                     "(damaged, or made to expand)"
                 )
-            if not node._filters and stored < nbytes:
+            if not info["filters"] and stored < nbytes:
                 raise ExportError(f"{what} declares {nbytes:,} bytes but stores {stored:,}")
-            if node._filters:
+            if info["filters"]:
                 guard.expanded(nbytes, what.split(": ", 1)[1])
-        guard.allocate(nbytes, f"the dataset {dataset}")
+        guard.allocate(nbytes, f"the dataset /{key}")
 
     def _check_pair(self, file: Path) -> None:
         """ExportError if ``file`` was written by another write than the light file."""
         if self.write_id is None:
             return
-        try:
-            raw = self.files[file].attrs.get("blockmesh")
-        except Exception as exc:  # h5py raises many kinds for a damaged file
-            raise ExportError(f"cannot read the attributes of {file}: {exc}") from None
+        raw = self.probes[file].attribute
         got = decode_metadata(raw, str(file)).get("write_id") if raw is not None else None
         if got != self.write_id:
             raise ExportError(
                 f"{self.where} and {file.name} do not belong together: they come from different "
                 f"writes (write ids {self.write_id} and {got}); write the mesh again"
             )
+
+    def metadata(self, file: Path) -> str | None:
+        """The ``blockmesh`` attribute of ``file`` (probed already by :meth:`dataset`)."""
+        return self.probes[file].attribute
 
     def close(self) -> None:
         for f in self.files.values():
