@@ -660,6 +660,7 @@ def atomic_with_folder(light: Path, folder: Path) -> Iterator[tuple[Path, Path, 
     light = check_target(Path(light))
     folder = Path(folder).absolute()
     with export_errors(light):
+        clean_stale(folder)  # what killed writes of the earlier layout left beside the index
         made = False
         try:
             mode = os.stat(folder).st_mode

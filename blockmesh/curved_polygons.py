@@ -272,7 +272,8 @@ def _check_curves_apart(
             meeting = meeting.difference(shapely.Point(corner).buffer(tol))
             if meeting.is_empty:
                 continue
-        where = shapely.get_coordinates(meeting)[0]
+        met = shapely.get_coordinates(meeting)
+        where = met[0] if met.size else rings[ri][ei]
         one = _edge_label(ri, ei, n_given, (ri, ei) in curves)
         two = _edge_label(rj, ej, n_given, (rj, ej) in curves)
         hint = (

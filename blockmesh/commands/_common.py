@@ -126,19 +126,26 @@ def is_mesh_file(name: str) -> bool:
     return suffix in extensions or (path.is_dir() and (path / "constant" / "polyMesh").is_dir())
 
 
-def load_target(name: str, *, progress: bool = False) -> Domain | Mesh:
+def load_target(
+    name: str, *, progress: bool = False, max_memory: int | None = None
+) -> Domain | Mesh:
     """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`.
 
     With ``progress``, a read that takes over a second shows a line on stderr
     (``mesh.msh: reading ...  3.0 s``, then ``done in``), as the command's other stages do.
+    ``max_memory`` (``--max-memory``) limits what reading a mesh file may allocate, for a file
+    read to convert too (see :mod:`blockmesh.bounded`).
     """
+    from ..bounded import reading
+
     if not is_mesh_file(name):
-        return load_domain(name)
+        with reading(name, max_memory=max_memory):
+            return load_domain(name)
     from ..io import read
 
     try:
         with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):
-            return read(name)
+            return read(name, max_memory=max_memory)
     except ExportError as error:
         raise ExportError(
             f"{error}. If {name} is a triangle or quadrilateral mesh rather than one blockmesh "

@@ -419,7 +419,8 @@ def _expand(names: list[str]) -> list[str]:
 
 def _batch_worker(name: str, options: dict[str, Any], output: str | None) -> dict[str, Any]:
     try:
-        return {"ok": True, **_mesh_one(load_target(name), options, output)}
+        target = load_target(name, max_memory=options["max_memory"])
+        return {"ok": True, **_mesh_one(target, options, output)}
     except BlockMeshError as error:
         return {"ok": False, "domain": name, "error": str(error)}
 
@@ -497,7 +498,9 @@ def run(args: argparse.Namespace) -> int:
     target = (
         inline_polygon(args.polygon, args.hole)
         if args.polygon is not None
-        else load_target(domains[0], progress=StageProgress.wanted(args))
+        else load_target(
+            domains[0], progress=StageProgress.wanted(args), max_memory=options["max_memory"]
+        )
     )
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     report = _mesh_one(target, options, args.output, progress=progress)

@@ -412,6 +412,8 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     for _, _, _, k in spans:  # the front and back faces are freed with ``rows``
         if patches[k].get("type") == "empty":
             del face_of[k]
+    if not fronts:
+        raise ExportError(f"{where}: the patch of type empty has no faces: no cells to read")
     rows = fronts[0] if len(fronts) == 1 else np.concatenate(fronts)
     cells_of = cell_of[0] if len(cell_of) == 1 else np.concatenate(cell_of)
     del fronts, cell_of, faces

@@ -250,6 +250,7 @@ def fuzz(
     seeds = make_seeds(target, work)
     counts: Counter[str] = Counter()
     errors: Counter[str] = Counter()
+    said: Counter[str] = Counter()
     failures: list[dict] = []
     slowest = 0.0
     peak = 0
@@ -295,6 +296,7 @@ def fuzz(
                     signal.setitimer(signal.ITIMER_REAL, 0)
             for warning in caught:
                 counts[f"warning {warning.category.__name__}"] += 1
+                said[f"{warning.category.__name__}: {str(warning.message)[:120]}"] += 1
             took = time.monotonic() - begun
             case_peak = _peak()
             if took > slowest or case_peak > peak:
@@ -322,6 +324,7 @@ def fuzz(
         "failures": counts["failures"],
         "errors": dict(errors),
         "warnings": {k[8:]: v for k, v in counts.items() if k.startswith("warning ")},
+        "warning_texts": dict(said.most_common(10)),
         "slowest_case_seconds": round(slowest, 2),
         "peak_rss_bytes": peak,
         "failure_list": failures[:50],

@@ -375,3 +375,12 @@ def test_nan_and_infinite_nodes_given_to_convert_are_located(tmp_path):
         _check_refused(
             tmp_path, "convert", f"t{k}.vtu", "-o", "out.toml", names=(f"t{k}.vtu", "point 3")
         )
+
+
+@pytest.mark.parametrize("suffix", [".vtu", ".npz", ".msh", ".xdmf"])
+def test_reads_honour_max_memory(tmp_path, suffix):
+    blockmesh.write(blockmesh.load_domain("joined-8").mesh(4), tmp_path / f"m{suffix}")
+    _check_refused(
+        tmp_path, "mesh", f"m{suffix}", "--level", "0", "--max-memory", "300K",
+        names=(f"m{suffix}", "--max-memory"),
+    )  # fmt: skip
