@@ -10,8 +10,11 @@ noisy; each figure is the best of several runs after a warm-up.
 
 from __future__ import annotations
 
+import argparse
 import math
 import time
+
+from _page import Page, add_arguments
 
 import blockmesh
 
@@ -31,19 +34,26 @@ def best_of(function, repeat: int = 5) -> float:
     return min(times)
 
 
-def convergence() -> None:
-    print("area: |straight - true| / true (ratio to the previous level), exact geometry")
+def convergence(page: Page) -> None:
+    areas = page.table(
+        "Area of the straight cells against the true area",
+        ["domain", "level", "error, straight", "ratio to level before", "error, exact geometry"],
+    )
     for name, true in AREAS.items():
         domain = blockmesh.load_domain(name)
         previous = None
         for level in range(6):
             mesh = domain.mesh(level)
             error = abs(mesh.area - true) / true
-            ratio = f"{previous / error:5.2f}" if previous else "    -"
+            ratio = f"{previous / error:.2f}" if previous else "-"
             exact = abs(mesh.curved_area - true) / true
-            print(f"  {name:11} L{level}  {error:9.2e}  {ratio}   {exact:9.2e}")
+            areas.row(name, level, f"{error:.2e}", ratio, f"{exact:.2e}")
             previous = error
-    print("∫∫ e^x cos y over plate-hole, order 8: |error| / |exact|, straight vs exact geometry")
+    areas.note("Relative errors: |area - true| / true.")
+    integral = page.table(
+        "∫∫ e^x cos y over plate-hole, order 8",
+        ["level", "error, straight", "ratio to level before", "error, exact geometry"],
+    )
     domain = blockmesh.load_domain("plate-hole")
     previous = None
     for level in range(6):
@@ -52,13 +62,20 @@ def convergence() -> None:
             domain, "exp(x) * cos(y)", order=8, level=level, exact_geometry=True
         )
         error = abs(straight - PLATE) / PLATE
-        ratio = f"{previous / error:5.2f}" if previous else "    -"
-        print(f"  L{level}  {error:9.2e}  {ratio}   {abs(exact - PLATE) / PLATE:9.2e}")
+        ratio = f"{previous / error:.2f}" if previous else "-"
+        integral.row(level, f"{error:.2e}", ratio, f"{abs(exact - PLATE) / PLATE:.2e}")
         previous = error
+    integral.note(
+        "Relative errors against (e^2 - e^-2) 2 sin 2 - π/4 (the hole's part by the mean "
+        "value of a harmonic function)."
+    )
 
 
-def cost() -> None:
-    print("refinement: curve-aware against straight (same blocks, no curves)")
+def cost(page: Page) -> None:
+    refine = page.table(
+        "Refinement: curve-aware against straight (the same blocks without their curves)",
+        ["domain", "level", "cells", "curved", "straight", "ratio"],
+    )
     for name in ("disc", "annulus", "plate-hole", "cylinder-channel"):
         curved = blockmesh.load_domain(name)
         straight = blockmesh.Domain.from_blocks(
@@ -68,28 +85,59 @@ def cost() -> None:
             t_curved = best_of(lambda c=curved, lv=level: c.mesh(lv), 3)
             t_straight = best_of(lambda s=straight, lv=level: s.mesh(lv), 3)
             cells = curved.n_blocks * 6**level
-            print(
-                f"  {name:16} L{level} {cells:>10,} cells  curved {t_curved * 1e3:7.1f} ms  "
-                f"straight {t_straight * 1e3:7.1f} ms  ratio {t_curved / t_straight:4.2f}"
+            refine.row(
+                name,
+                level,
+                f"{cells:,}",
+                f"{t_curved * 1e3:.1f} ms",
+                f"{t_straight * 1e3:.1f} ms",
+                f"{t_curved / t_straight:.2f}",
             )
-    print("integration, order 8: exact geometry against straight cells")
+    refine.note("Best of 3 after a warm-up.")
+    integrate = page.table(
+        "Integration, order 8: exact geometry against the straight cells",
+        ["domain", "level", "cells", "exact geometry", "straight", "ratio"],
+    )
     for name in ("disc", "plate-hole"):
         mesh = blockmesh.load_domain(name).mesh(4)
         plain = best_of(lambda m=mesh: blockmesh.integrate(m, "exp(x)*cos(y)", order=8))
         exact = best_of(
             lambda m=mesh: blockmesh.integrate(m, "exp(x)*cos(y)", order=8, exact_geometry=True)
         )
-        print(
-            f"  {name:11} L4 {mesh.n_cells:>7,} cells  exact geometry {exact * 1e3:6.1f} ms  "
-            f"straight {plain * 1e3:6.1f} ms  ratio {exact / plain:4.2f}"
+        integrate.row(
+            name,
+            4,
+            f"{mesh.n_cells:,}",
+            f"{exact * 1e3:.1f} ms",
+            f"{plain * 1e3:.1f} ms",
+            f"{exact / plain:.2f}",
         )
+    integrate.note("Best of 5 after a warm-up.")
     start = time.perf_counter()
     blockmesh.load_domain("cylinder-channel")
-    print(
-        f"loading cylinder-channel (curve checks to level 5): {time.perf_counter() - start:.3f} s"
+    page.text(
+        "Loading `cylinder-channel` (which runs the curve checks to level 5): "
+        f"{time.perf_counter() - start:.3f} s."
     )
 
 
+ABOUT = """\
+The catalogue's curved domains: how the straight cells' area and integrals converge with the level
+(second order: each level quarters the error) against the exact-geometry results (at round-off from
+level 0), then what the curves cost: the curve-aware refinement against the same blocks without
+their curves, and exact-geometry integration against plain integration. Timings on a shared
+machine are noisy; each is the best of several runs after a warm-up."""
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_arguments(parser)
+    args = parser.parse_args()
+    page = Page("curved", "Curved domains: convergence and cost", ABOUT)
+    convergence(page)
+    cost(page)
+    page.write(args)
+
+
 if __name__ == "__main__":
-    convergence()
-    cost()
+    main()

@@ -21,12 +21,13 @@ import warnings
 
 import numpy as np
 import shapely
+from _page import Page, add_arguments
 
 from blockmesh import Domain
 from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.decompose.triangulate import triangulate
+from blockmesh.domain.validate import check_rings
 from blockmesh.geometry import interior_angles, local_frame
-from blockmesh.validate import check_rings
 
 
 def star(n: int, lobes: int = 7, depth: float = 0.3) -> np.ndarray:
@@ -143,23 +144,48 @@ def gmsh_mesh(outer, holes, repeat):
     return best_of(run, repeat), out["n"]
 
 
+DASH = "\u2013"  # between the ends of a range
+
+
 def _ms(seconds: float) -> str:
     """Milliseconds with three significant digits."""
-    return f"{seconds * 1e3:#8.3g} ms"
+    return f"{seconds * 1e3:#.3g} ms"
+
+
+ABOUT = """\
+`Domain.from_polygon` end to end (validation, quality triangulation, templates, node moves and the
+domain's own check) on star-shaped polygons of n corners (and 2000 with 10 holes), a circle-like
+64-gon and the L-shape with two holes, and the peers on the same polygons in the same run:
+shapely's constrained Delaunay triangulation alone (no quality), Triangle `pq30` (a C library),
+its triangles through the 9-pentagon template, and gmsh's 2-D mesher with each corner's size its
+shorter edge. Best of a few runs after a warm-up."""
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="*", default=[50, 100, 200, 500, 1000, 2000])
     parser.add_argument("--repeat", type=int, default=3)
+    add_arguments(parser)
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    rows = []
-    print(
-        f"{'polygon':<22} {'corners':>7} {'time':>8} {'us/corner':>9} {'blocks':>7} "
-        f"{'angles':>15} {'own tri':>8} | {'shapely CDT':>16} {'Triangle pq30':>18} "
-        f"{'pq30 + templates':>21} {'gmsh':>18}"
+    page = Page("decompose", "Decomposition of polygons", ABOUT)
+    table = page.table(
+        "`Domain.from_polygon` against the peers on the same polygons",
+        [
+            "polygon",
+            "corners",
+            "time",
+            "µs/corner",
+            "blocks",
+            "block angles",
+            "own triangulation",
+            "shapely CDT",
+            "Triangle `pq30`",
+            "`pq30` + templates",
+            "gmsh",
+        ],
     )
+    rows = []
     for name, outer, holes in cases(args.sizes):
         corners = len(outer) + sum(len(h) for h in holes)
         repeat = args.repeat if corners <= 500 else 1
@@ -173,13 +199,21 @@ def main() -> None:
         msh = gmsh_mesh(outer, holes, 1)
 
         def peer(result):
-            return "-" if result is None else f"{_ms(result[0])} {result[1]:>6} tri"
+            return "-" if result is None else f"{_ms(result[0])}, {result[1]:,} tri"
 
-        templated = "-" if tri is None else f"{tri[2]:>7} {tri[3]:5.1f}..{tri[4]:5.1f}°"
-        print(
-            f"{name:<22} {corners:>7} {seconds:>7.3f}s {seconds / corners * 1e6:>9.0f} "
-            f"{d.n_blocks:>7} {angles.min():>6.1f}..{angles.max():>5.1f}° {own / seconds:>7.0%} | "
-            f"{_ms(cdt[0])} {cdt[1]:>5} {peer(tri):>18} {templated:>21} {peer(msh):>18}"
+        templated = "-" if tri is None else f"{tri[2]:,}, {tri[3]:.1f}°{DASH}{tri[4]:.1f}°"
+        table.row(
+            name,
+            corners,
+            f"{seconds:.3f} s",
+            f"{seconds / corners * 1e6:,.0f}",
+            f"{d.n_blocks:,}",
+            f"{angles.min():.1f}°{DASH}{angles.max():.1f}°",
+            f"{own / seconds:.0%}",
+            f"{_ms(cdt[0])}, {cdt[1]:,} tri",
+            peer(tri),
+            templated,
+            peer(msh),
         )
         rows.append((name, corners, seconds, d.n_blocks))
     star_rows = [r for r in rows if r[0].startswith("star, n")]
@@ -187,10 +221,16 @@ def main() -> None:
         (_, n0, t0, b0), (_, n1, t1, b1) = star_rows[0], star_rows[-1]
         growth = np.log(t1 / t0) / np.log(n1 / n0)
         blocks = np.log(b1 / b0) / np.log(n1 / n0)
-        print(
-            f"growth from n = {n0} to {n1}: time ~ n^{growth:.2f}, blocks ~ n^{blocks:.2f} "
-            "(1.00 is linear)"
+        table.note(
+            f"Growth from n = {n0} to {n1}: time ~ n^{growth:.2f}, blocks ~ n^{blocks:.2f} "
+            "(1.00 is linear)."
         )
+    table.note(
+        "own triangulation: the share of blockmesh's time spent in its quality triangulation. "
+        "Triangle `pq30` + templates: Triangle's triangles each made its 9-pentagon template "
+        "(the by-construction alternative, without node moves): blocks and their angles."
+    )
+    page.write(args)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _page import Page, add_arguments
+
 import blockmesh
 import blockmesh.distributed as bd
 from blockmesh.distributed.files import write_h5_piece, write_vtu_piece
@@ -44,7 +46,7 @@ def best_of(function, repeat: int) -> float:
     return min(times)
 
 
-def scaling(args: argparse.Namespace, folder: Path) -> None:
+def scaling(page: Page, args: argparse.Namespace, folder: Path) -> None:
     domain = blockmesh.load_domain(args.domain)
     level, partitions = args.level, args.partitions
     cells = domain.n_blocks * 6**level
@@ -56,13 +58,17 @@ def scaling(args: argparse.Namespace, folder: Path) -> None:
         blockmesh.write(mesh, folder / "serial.xdmf")
 
     serial_time = best_of(serial, args.repeat)
-    print(
-        f"1. strong scaling: {args.domain} level {level} ({cells:,} cells), {partitions} "
-        "partitions, XDMF output"
+    table = page.table(
+        f"1. Strong scaling: {args.domain}, level {level} ({cells:,} cells), "
+        f"{partitions} partitions",
+        ["run", "time", "ns/cell", "serial / this", "cluster start"],
     )
-    print(
-        f"  serial refine + write      {serial_time:7.2f} s  "
-        f"{serial_time / cells * 1e9:6.1f} ns/cell"
+    table.row(
+        "serial: refine, measure, write XDMF",
+        f"{serial_time:.2f} s",
+        f"{serial_time / cells * 1e9:.0f}",
+        "1",
+        "",
     )
     for workers in (1, 2):
         started = time.perf_counter()
@@ -78,24 +84,31 @@ def scaling(args: argparse.Namespace, folder: Path) -> None:
                     ),
                     args.repeat,
                 )
-                print(
-                    f"  {workers} worker{'s' if workers > 1 else ' '} {suffix:6}          "
-                    f"{run:7.2f} s  {run / cells * 1e9:6.1f} ns/cell  serial/this "
-                    f"{serial_time / run:5.2f}  (cluster start {startup:.1f} s)"
+                kind = "XDMF" if suffix == ".xdmf" else "VTU"
+                table.row(
+                    f"{workers} worker{'s' if workers > 1 else ''}, {kind} pieces",
+                    f"{run:.2f} s",
+                    f"{run / cells * 1e9:.0f}",
+                    f"{serial_time / run:.2f}",
+                    f"{startup:.1f} s",
                 )
         finally:
             context.__exit__(None, None, None)
     again = best_of(serial, args.repeat)
-    print(
-        f"  serial again               {again:7.2f} s  (the machine is shared: ratios above use "
-        "the first serial run)"
+    table.row("serial again", f"{again:.2f} s", f"{again / cells * 1e9:.0f}", "", "")
+    table.note(
+        "The machine is shared: the ratios use the first serial run; the second shows how much "
+        f"the serial path varied within the run. Best of {args.repeat} after a warm-up."
     )
 
 
-def overhead(args: argparse.Namespace, folder: Path) -> None:
+def overhead(page: Page, args: argparse.Namespace, folder: Path) -> None:
     from dask.distributed import Client, LocalCluster
 
-    print("\n2. per-task overhead (local cluster of 2 workers)")
+    table = page.table(
+        "2. Per-task overhead (a local cluster of 2 workers)",
+        ["run", "time", "per task or piece", "serial with VTU"],
+    )
     with (
         LocalCluster(
             n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
@@ -108,7 +121,9 @@ def overhead(args: argparse.Namespace, folder: Path) -> None:
             client.gather([client.submit(int, k, pure=False) for k in range(n)])
 
         per_task = best_of(empty, args.repeat) / n
-        print(f"  empty task round trip: {per_task * 1e3:.2f} ms per task ({n} tasks)")
+        table.row(
+            f"{n} empty tasks", f"{per_task * n * 1e3:.1f} ms", f"{per_task * 1e3:.2f} ms", ""
+        )
         domain = blockmesh.load_domain("joined-8")
         for partitions in (2, 8, 32):
             run = best_of(
@@ -121,21 +136,25 @@ def overhead(args: argparse.Namespace, folder: Path) -> None:
                 lambda: blockmesh.write(blockmesh.refine(domain, 3), folder / "tiny.vtu"),
                 args.repeat,
             )
-            print(
-                f"  joined-8 level 3 (10,368 cells) in {partitions:>2} pieces: {run * 1e3:6.1f} ms "
-                f"= {run / partitions * 1e3:5.1f} ms per piece (serial with VTU: "
-                f"{serial * 1e3:.1f} ms)"
+            table.row(
+                f"joined-8 level 3 (10,368 cells) in {partitions} pieces",
+                f"{run * 1e3:.1f} ms",
+                f"{run / partitions * 1e3:.1f} ms",
+                f"{serial * 1e3:.1f} ms",
             )
 
 
-def writers(args: argparse.Namespace, folder: Path) -> None:
+def writers(page: Page, args: argparse.Namespace, folder: Path) -> None:
     domain = blockmesh.load_domain(args.domain)
     level = args.level
     mesh = blockmesh.refine(domain, level)
     parts = partition(domain, level, args.partitions)
     pieces = [build_piece(parts, p) for p in range(parts.n_partitions)]
     cells = mesh.n_cells
-    print(f"\n3. writers, {args.domain} level {level} ({cells:,} cells), in one process")
+    table = page.table(
+        f"3. Writers, {args.domain} level {level} ({cells:,} cells), in one process",
+        ["writer", "time", "ns/cell", "over the first"],
+    )
 
     def each(write, suffix):
         def run():
@@ -156,18 +175,19 @@ def writers(args: argparse.Namespace, folder: Path) -> None:
     for label, run in rows:
         seconds = best_of(run, max(1, args.repeat // 2))
         base = base or seconds
-        print(
-            f"  {label:38} {seconds:6.2f} s  {seconds / cells * 1e9:6.1f} ns/cell  "
-            f"{seconds / base:5.2f}x the first"
+        table.row(
+            label, f"{seconds:.2f} s", f"{seconds / cells * 1e9:.0f}", f"{seconds / base:.2f}"
         )
 
 
-def demo(args: argparse.Namespace, folder: Path) -> None:
+def demo(page: Page, args: argparse.Namespace, folder: Path) -> None:
     domain = blockmesh.load_domain(args.domain)
     limit = int(args.memory_limit)
-    print(
-        f"\n4. {args.domain} level {args.level} on 2 workers with a {limit / 1e9:.1f} GB memory "
-        f"limit each, {args.partitions} partitions, {args.format} pieces in {folder}"
+    table = page.table(
+        f"4. Past one worker's memory: {args.domain} level {args.level} on 2 workers with a "
+        f"{limit / 1e9:.1f} GB memory limit each, {args.partitions} partitions, "
+        f"{args.format} pieces",
+        ["measure", "value"],
     )
     with bd.dask_client(workers=2, memory_limit=limit) as client:
         made = bd.refine_to(
@@ -183,17 +203,32 @@ def demo(args: argparse.Namespace, folder: Path) -> None:
         peaks[s["worker"]] = max(peaks.get(s["worker"], 0), int(s["peak_rss"]))
     predicted = max(bd.predict_task_bytes(bd.partition(domain, args.level, args.partitions), p)
                     for p in range(args.partitions))  # fmt: skip
-    print(
-        f"  {made.cells:,} cells, {made.nodes:,} nodes in {made.seconds:.1f} s; arrays "
-        f"{made.array_bytes / 1e9:.2f} GB, written {made.bytes_written / 1e9:.2f} GB"
+    table.row("cells, nodes", f"{made.cells:,}, {made.nodes:,}")
+    table.row("time", f"{made.seconds:.1f} s")
+    table.row(
+        "arrays, written", f"{made.array_bytes / 1e9:.2f} GB, {made.bytes_written / 1e9:.2f} GB"
     )
-    for worker, peak in sorted(peaks.items()):
-        print(f"  worker {worker}: peak resident {peak / 1e9:.2f} GB of {limit / 1e9:.1f} GB")
-    print(
-        f"  predicted peak per worker {predicted / 1e9:.2f} GB; measured largest "
-        f"{max(peaks.values()) / 1e9:.2f} GB ({predicted / max(peaks.values()):.2f}x)"
+    for number, (_, peak) in enumerate(sorted(peaks.items())):
+        table.row(f"worker {number}: peak resident", f"{peak / 1e9:.2f} GB of {limit / 1e9:.1f} GB")
+    table.row(
+        "predicted peak per worker",
+        f"{predicted / 1e9:.2f} GB ({predicted / max(peaks.values()):.2f} x the largest measured)",
     )
-    print(f"  worker restarts: {restarts}; quality: {made.quality}")
+    table.row("worker restarts", restarts)
+    table.row("quality", made.quality)
+
+
+ABOUT = """\
+`blockmesh.distributed` (`pip install -e '.[distributed]'`): the serial refinement with its XDMF
+export against `refine_to` on local Dask clusters of 1 and 2 workers (the same mesh, the same
+partitions; cluster start-up measured apart), the cost of a task, and the piece writers against
+the serial writers in one process. Output in `/dev/shm` where it exists, so that the disk's
+write-back does not hide the work. Best of several runs after a warm-up."""
+
+DEMO = """\
+`python benchmarks/bench_distributed.py --demo`: a local cluster of 2 workers, each with a memory
+limit, writes a mesh whose arrays are larger than one worker's limit, and reports every worker's
+peak resident memory (which must stay under its limit) against the prediction."""
 
 
 def main() -> None:
@@ -214,6 +249,7 @@ def main() -> None:
         "that the disk's write-back does not hide the computing; the demonstration: /tmp)",
     )
     parser.add_argument("--keep", action="store_true", help="keep the demonstration's output")
+    add_arguments(parser)
     args = parser.parse_args()
     memory_disk = Path("/dev/shm")
     where = memory_disk if memory_disk.is_dir() and not args.demo else None
@@ -223,16 +259,20 @@ def main() -> None:
         if args.demo:
             args.level = args.level or 9
             args.partitions = args.partitions or 16
-            demo(args, folder)
+            page = Page("distributed-demo", "Past one worker's memory", DEMO)
+            demo(page, args, folder)
+            page.write(args)
             return
         args.level = args.level or 8
         args.partitions = args.partitions or 4
+        page = Page("distributed", "Partitioned meshing on Dask", ABOUT)
         if args.part in ("all", "scaling"):
-            scaling(args, folder)
+            scaling(page, args, folder)
         if args.part in ("all", "overhead"):
-            overhead(args, folder)
+            overhead(page, args, folder)
         if args.part in ("all", "writers"):
-            writers(args, folder)
+            writers(page, args, folder)
+        page.write(args)
     finally:
         if not args.keep:
             shutil.rmtree(folder, ignore_errors=True)

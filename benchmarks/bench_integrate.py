@@ -19,16 +19,11 @@ import time
 from fractions import Fraction
 
 import numpy as np
+from _page import Page, add_arguments
 from scipy import integrate as scipy_integrate
 
-from blockmesh.expr import parse_expression
-from blockmesh.quadrature import (
-    DEFAULT_CHUNK,
-    RULES,
-    integrate,
-    integrate_to_tolerance,
-    rule_info,
-)
+from blockmesh.numerics.expr import parse_expression
+from blockmesh.quadrature import DEFAULT_CHUNK, RULES, integrate, integrate_to_tolerance, rule_info
 from blockmesh.quadrature.kernel import chunks
 from blockmesh.tables import PENTAGONS, paper_case, pentagon_mesh
 
@@ -61,15 +56,21 @@ def _best(fn, repeat: int = 3) -> float:
 
 
 # --------------------------------------------------------------------------- 1. throughput
-def throughput(level: int, orders: tuple[int, ...], tables: tuple[int, ...]) -> None:
+def throughput(page: Page, level: int, orders: tuple[int, ...], tables: tuple[int, ...]) -> None:
     mesh = pentagon_mesh("SP", level)
-    print(
-        f"\n1. Throughput on SP level {level} ({mesh.n_cells:,} cells), rule paper, "
-        f"chunk {DEFAULT_CHUNK:,} points"
-    )
-    print(
-        f"{'integrand':<34}{'order':>6}{'points':>13}{'integrate':>12}{'f alone':>12}"
-        f"{'Mpts/s':>9}{'ratio':>7}{'no estimate':>13}{'estimate':>10}"
+    out = page.table(
+        f"1. Throughput on SP level {level} ({mesh.n_cells:,} cells), rule paper",
+        [
+            "integrand",
+            "order",
+            "points",
+            "integrate",
+            "f alone",
+            "M points/s",
+            "f alone / integrate",
+            "no estimate",
+            "estimate",
+        ],
     )
     for table in tables:
         text = paper_case(table, "SP").integrand
@@ -97,21 +98,29 @@ def throughput(level: int, orders: tuple[int, ...], tables: tuple[int, ...]) -> 
             run_f_alone()
             t_f = min(run_f_alone() for _ in range(3))
             label = text if len(text) <= 32 else text[:29] + "..."
-            print(
-                f"{label:<34}{n:>6}{points:>13,}{t_int:>11.3f}s{t_f:>11.3f}s"
-                f"{points / t_int / 1e6:>9.1f}{t_f / t_int:>7.2f}{t_plain:>12.3f}s"
-                f"{(t_int / t_plain - 1) * 100:>+9.0f}%"
+            out.row(
+                f"`{label}`",
+                n,
+                f"{points:,}",
+                f"{t_int * 1e3:.0f} ms",
+                f"{t_f * 1e3:.0f} ms",
+                f"{points / t_int / 1e6:.0f}",
+                f"{t_f / t_int:.2f}",
+                f"{t_plain * 1e3:.0f} ms",
+                f"{(t_int / t_plain - 1) * 100:+.0f}%",
             )
+    out.note(
+        f'Points in chunks of {DEFAULT_CHUNK:,}. "no estimate": `warn_rtol=None`; "estimate": '
+        "what the default error estimate adds."
+    )
 
 
 # --------------------------------------------------------------------------- 2. error vs cost
-def error_vs_cost(tables: tuple[int, ...], targets=(1e-6, 1e-10, 1e-13)) -> None:
-    print(
-        "\n2. Fewest evaluations reaching |error| <= target x ∫|f| (levels 0-3, orders 1-30), "
-        "SP and USP"
+def error_vs_cost(page: Page, tables: tuple[int, ...], targets=(1e-6, 1e-10, 1e-13)) -> None:
+    out = page.table(
+        "2. Fewest evaluations reaching |error| <= target x ∫|f| (levels 0-3, orders 1-30)",
+        ["table", "pentagon", "target", *RULES],
     )
-    header = "".join(f"{rule:>10}" * 1 for rule in RULES)
-    print(f"{'table':<7}{'pentagon':<9}{'target':>8}" + header + "   (degree 2n-1 for all rules)")
     for table in tables:
         for pentagon in PENTAGONS:
             case = paper_case(table, pentagon)
@@ -130,11 +139,11 @@ def error_vs_cost(tables: tuple[int, ...], targets=(1e-6, 1e-10, 1e-13)) -> None
                                 found[target] = cost
                 results[rule] = found
             for target in targets:
-                cells = "".join(
-                    f"{results[rule][target]:>10,}" if results[rule][target] else f"{'-':>10}"
-                    for rule in RULES
-                )
-                print(f"{table:<7}{pentagon:<9}{target:>8.0e}{cells}")
+                cells = [
+                    f"{results[rule][target]:,}" if results[rule][target] else "-" for rule in RULES
+                ]
+                out.row(table, pentagon, f"{target:.0e}", *cells)
+    out.note("Every rule of order n is exact to degree 2n - 1.")
 
 
 # --------------------------------------------------------------------------- 3. vs dblquad
@@ -164,14 +173,21 @@ def _strips(corners):
     return strips
 
 
-def versus_dblquad(tables: tuple[int, ...], tol: float = 1e-12) -> None:
-    print(
-        f"\n3. Time to |error| <= {tol:g}: integrate_to_tolerance (rule jacobi, from the single "
-        "pentagon) vs scipy dblquad (epsabs=epsrel=1e-12, split into vertical strips)"
-    )
-    print(
-        f"{'table':<6}{'P':<5}{'blockmesh':>11}{'error':>10}{'points':>11}{'lvl/ord':>9}"
-        f"{'dblquad':>11}{'error':>10}{'evals':>11}{'speed-up':>10}"
+def versus_dblquad(page: Page, tables: tuple[int, ...], tol: float = 1e-12) -> None:
+    out = page.table(
+        f"3. Time to |error| <= {tol:g}: `integrate_to_tolerance` against scipy's `dblquad`",
+        [
+            "table",
+            "pentagon",
+            "blockmesh",
+            "error",
+            "points",
+            "level/order",
+            "dblquad",
+            "error",
+            "evaluations",
+            "speed-up",
+        ],
     )
     for table in tables:
         for pentagon in PENTAGONS:
@@ -204,27 +220,46 @@ def versus_dblquad(tables: tuple[int, ...], tol: float = 1e-12) -> None:
             value = theirs()
             t_theirs = time.perf_counter() - start
             flag = "" if result.converged else " (not converged)"
-            print(
-                f"{table:<6}{pentagon:<5}{t_ours * 1e3:>9.1f}ms"
-                f"{abs(result.value - reference):>10.1e}"
-                f"{result.points:>11,}{result.level:>4}/{result.order:<4}"
-                f"{t_theirs * 1e3:>9.0f}ms{abs(value - reference):>10.1e}{calls[0]:>11,}"
-                f"{t_theirs / t_ours:>9.0f}x{flag}"
+            out.row(
+                table,
+                pentagon,
+                f"{t_ours * 1e3:.1f} ms",
+                f"{abs(result.value - reference):.1e}",
+                f"{result.points:,}",
+                f"{result.level}/{result.order}",
+                f"{t_theirs * 1e3:.0f} ms",
+                f"{abs(value - reference):.1e}",
+                f"{calls[0]:,}",
+                f"{t_theirs / t_ours:.0f}x{flag}",
             )
+    out.note(
+        "blockmesh: `integrate_to_tolerance` from the single pentagon; dblquad: "
+        f"epsabs = epsrel = {tol:g}, the pentagon split into vertical strips."
+    )
+
+
+ABOUT = """\
+`blockmesh.integrate` on the paper's pentagons: quadrature points per second against evaluating f
+alone on the same points (and what the default error estimate costs); the fewest evaluations of f
+each rule needs to reach a relative error on the tables' integrands; and the time to reach 1e-12
+with `integrate_to_tolerance` against `scipy.integrate.dblquad`."""
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="smaller sizes, fewer cases")
+    add_arguments(parser)
     args = parser.parse_args()
+    page = Page("integrate", "Integration", ABOUT)
     if args.quick:
-        throughput(5, (5,), (1, 9))
-        error_vs_cost((9,))
-        versus_dblquad((9,))
+        throughput(page, 5, (5,), (1, 9))
+        error_vs_cost(page, (9,))
+        versus_dblquad(page, (9,))
     else:
-        throughput(6, (5, 10), (1, 3, 7, 9, 11))
-        error_vs_cost((1, 2, 7, 9, 11))
-        versus_dblquad((1, 2, 3, 5, 7, 9, 10, 11))
+        throughput(page, 6, (5, 10), (1, 3, 7, 9, 11))
+        error_vs_cost(page, (1, 2, 7, 9, 11))
+        versus_dblquad(page, (1, 2, 3, 5, 7, 9, 10, 11))
+    page.write(args)
 
 
 if __name__ == "__main__":

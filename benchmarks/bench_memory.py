@@ -11,7 +11,8 @@ child), and prints their ratio; the guard is meant to be within 25 % at levels 6
 Calibrate mode: in one process, refines once per level, then runs each stage (report, rcm, plots,
 every export format) with the peak resident set reset before it (``/proc/self/clear_refs``), and
 fits ``extra = per_cell * cells + constant`` over the levels: the numbers in
-``blockmesh.memory.STAGE_COSTS``. Not a test: figures depend on the machine and its libraries.
+``blockmesh.refinement.sizes.STAGE_COSTS``. Not a test: figures depend on the machine and its
+libraries.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _page import Page, add_arguments
 
 STAGES = {
     "report": [],
@@ -40,7 +42,8 @@ STAGES = {
     "npz": ["-o", "{dir}/o.npz"],
     "mat": ["-o", "{dir}/o.mat"],
     "vtu:none": ["-o", "{dir}/o.vtu", "--compression", "none"],
-    "vtu:zlib": ["-o", "{dir}/o.vtu"],
+    "vtu:zlib": ["-o", "{dir}/o.vtu", "--compression", "zlib"],
+    "vtu:lzma": ["-o", "{dir}/o.vtu", "--compression", "lzma"],
     "msh:tri3": ["-o", "{dir}/o.msh", "--split", "tri3"],
     "msh:tri5": ["-o", "{dir}/o.msh", "--split", "tri5"],
     "msh:quad5": ["-o", "{dir}/o.msh", "--split", "quad5"],
@@ -73,8 +76,11 @@ def measure_command(domain: str, level: int, stage: str, folder: Path) -> tuple[
 
 
 def check(args: argparse.Namespace) -> None:
-    print("blockmesh mesh DOMAIN --level L [stage]: predicted peak vs measured peak RSS")
-    print(f"{'domain':>10} {'L':>2} {'stage':>12} {'predicted':>11} {'measured':>11} {'ratio':>6}")
+    page = Page("memory", "The memory guard", ABOUT)
+    table = page.table(
+        "`blockmesh mesh DOMAIN --level L [stage]`: predicted peak against measured peak RSS",
+        ["domain", "level", "stage", "predicted", "measured", "predicted / measured", "time"],
+    )
     worst = 0.0
     for domain in args.domains:
         for level in args.levels:
@@ -83,29 +89,34 @@ def check(args: argparse.Namespace) -> None:
                 try:
                     predicted, measured, seconds = measure_command(domain, level, stage, folder)
                 except RuntimeError as error:
-                    print(f"{domain:>10} {level:>2} {stage:>12}  {error}")
+                    table.row(domain, level, stage, "", "", f"failed: {error}", "")
                     continue
                 finally:
                     shutil.rmtree(folder, ignore_errors=True)
                 ratio = predicted / measured
                 worst = max(worst, abs(ratio - 1))
-                print(
-                    f"{domain:>10} {level:>2} {stage:>12} {predicted / 1e6:>9.0f}MB "
-                    f"{measured / 1e6:>9.0f}MB {ratio:>6.2f}  ({seconds:.1f} s)",
-                    flush=True,
+                table.row(
+                    domain,
+                    level,
+                    stage,
+                    f"{predicted / 1e6:.0f} MB",
+                    f"{measured / 1e6:.0f} MB",
+                    f"{ratio:.2f}",
+                    f"{seconds:.1f} s",
                 )
-    print(f"largest deviation: {worst:.0%}")
+    table.note(f"Largest deviation: {worst:.0%}.")
+    page.write(args)
 
 
 # ------------------------------------------------------------------------------ calibration
 def _rss() -> int:
-    from blockmesh.memory import process_rss
+    from blockmesh._system.memory import process_rss
 
     return process_rss()
 
 
 def _stage_extra(run) -> int:
-    from blockmesh.memory import peak_rss, reset_peak_rss
+    from blockmesh._system.memory import peak_rss, reset_peak_rss
 
     gc.collect()
     before = _rss()
@@ -125,12 +136,16 @@ def calibrate(args: argparse.Namespace) -> None:
     import scipy.sparse.csgraph  # noqa: F401
 
     domain = blockmesh.load_domain(args.domains[0])
+    page = Page("memory-calibration", "The memory guard's calibration", CALIBRATION)
+    measured = page.table(
+        f"Each stage's extra memory, {args.domains[0]}",
+        ["level", "cells", "mesh", "stage", "extra", "bytes per cell"],
+    )
     extras: dict[str, list[tuple[int, int]]] = {}
     folder = Path(tempfile.mkdtemp(prefix="bench-memory-"))
     try:
         for level in args.levels:
             mesh = blockmesh.refine(domain, level)
-            print(f"level {level}: {mesh.n_cells:,} cells, mesh {mesh.nbytes() / 1e6:.0f} MB")
             for stage in args.stages:
 
                 def run(stage=stage, mesh=mesh):
@@ -155,11 +170,20 @@ def calibrate(args: argparse.Namespace) -> None:
 
                 extra = _stage_extra(run)
                 extras.setdefault(stage, []).append((mesh.n_cells, extra))
-                print(f"  {stage:>12}: {extra / 1e6:8.1f} MB = {extra / mesh.n_cells:7.1f} B/cell")
+                measured.row(
+                    level,
+                    f"{mesh.n_cells:,}",
+                    f"{mesh.nbytes() / 1e6:.0f} MB",
+                    stage,
+                    f"{extra / 1e6:.1f} MB",
+                    f"{extra / mesh.n_cells:.1f}",
+                )
             del mesh
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    print("\nfitted extra = per_cell * cells + constant:")
+    fitted = page.table(
+        "Fitted: extra = per_cell * cells + constant", ["stage", "per_cell", "constant"]
+    )
     for stage, points in extras.items():
         cells = np.array([c for c, _ in points], dtype=float)
         extra = np.array([e for _, e in points], dtype=float)
@@ -167,7 +191,25 @@ def calibrate(args: argparse.Namespace) -> None:
             per_cell, constant = np.polyfit(cells, extra, 1)
         else:
             per_cell, constant = extra[0] / cells[0], 0.0
-        print(f"  {stage:>12}: per_cell {per_cell:7.1f}  constant {constant / 1e6:6.1f} MB")
+        fitted.row(stage, f"{per_cell:.1f}", f"{constant / 1e6:.1f} MB")
+    fitted.note(
+        "The numbers of `blockmesh.refinement.sizes.STAGE_COSTS`: update them when a writer "
+        "changes."
+    )
+    page.write(args)
+
+
+ABOUT = """\
+The memory guard's prediction of the peak resident memory of `blockmesh mesh DOMAIN --level L
+[stage options]` (`predicted_peak_bytes` of `--json`) against the command's measured peak
+(`ru_maxrss` of a fresh process), for every stage variant: the report, RCM renumbering, the plots
+and every export format. The guard is meant to be within 25 % at levels 6-9."""
+
+CALIBRATION = """\
+In one process: refine once per level, then run each stage (report, RCM, plots, every export
+format) with the peak resident set reset before it (`/proc/self/clear_refs`), and fit
+`extra = per_cell * cells + constant` over the levels: the figures of
+`blockmesh.refinement.sizes.STAGE_COSTS`."""
 
 
 def main() -> None:
@@ -176,6 +218,7 @@ def main() -> None:
     parser.add_argument("--domains", nargs="+", default=["sp"])
     parser.add_argument("--levels", nargs="+", type=int)
     parser.add_argument("--stages", nargs="+", default=list(STAGES), choices=list(STAGES))
+    add_arguments(parser)
     args = parser.parse_args()
     if args.levels is None:
         args.levels = [7, 8] if args.calibrate else [6, 7, 8, 9]

@@ -22,6 +22,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _page import Page, add_arguments
+
 CASES = [("sp", 8), ("joined-8", 7), ("l-shape", 6), ("ring", 7), ("joined-8", 8)]
 
 
@@ -42,17 +44,16 @@ def wall(argv: list[str], repeat: int) -> float:
     return best_of(run, repeat)
 
 
-def in_process(repeat: int) -> None:
+def in_process(page: Page, repeat: int) -> None:
     import blockmesh
-    from blockmesh.measures import measure_cells
+    from blockmesh.mesh.measures import measure_cells
     from blockmesh.plot import plot_mesh, pyplot
 
     pyplot()
     folder = Path(tempfile.mkdtemp(prefix="bench-pipeline-"))
-    print("1. stages in one process (warm), as multiples of the refinement")
-    print(
-        f"{'domain':>10} {'L':>2} {'cells':>11} {'refine':>8} {'ns/cell':>7} {'report':>8} "
-        f"{'ns/cell':>7} {'report/refine':>13} {'plot':>7} {'xdmf':>7}"
+    table = page.table(
+        "1. Stages in one process (warm), against the refinement",
+        ["domain", "level", "cells", "refine", "report", "report / refine", "plot", "XDMF"],
     )
     try:
         for name, level in CASES:
@@ -64,15 +65,24 @@ def in_process(repeat: int) -> None:
             xdmf = best_of(
                 lambda m=mesh: blockmesh.write(m, folder / "m.xdmf"), max(1, repeat // 2)
             )
-            print(
-                f"{name:>10} {level:>2} {mesh.n_cells:>11,} {refine * 1e3:>6.0f}ms "
-                f"{refine / mesh.n_cells * 1e9:>7.1f} {report * 1e3:>6.0f}ms "
-                f"{report / mesh.n_cells * 1e9:>7.1f} {report / refine:>12.2f}x "
-                f"{plot:>6.2f}s {xdmf:>6.2f}s"
+            table.row(
+                name,
+                level,
+                f"{mesh.n_cells:,}",
+                f"{refine * 1e3:.0f} ms ({refine / mesh.n_cells * 1e9:.0f} ns/cell)",
+                f"{report * 1e3:.0f} ms ({report / mesh.n_cells * 1e9:.0f} ns/cell)",
+                f"{report / refine:.2f}",
+                f"{plot:.2f} s",
+                f"{xdmf:.2f} s",
             )
             del mesh
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+    table.note(
+        "report: the one pass of cell measures that gives the report its quality, area and "
+        "bandwidth; plot: the mesh picture (cell density beyond 200,000 cells); XDMF: writing the "
+        "mesh. Best of runs after a warm-up."
+    )
 
 
 def interleaved(commands: dict[str, list[str]], repeat: int) -> dict[str, list[float]]:
@@ -88,14 +98,21 @@ def interleaved(commands: dict[str, list[str]], repeat: int) -> dict[str, list[f
     return times
 
 
-def fresh(repeat: int) -> None:
+def fresh(page: Page, repeat: int) -> None:
     python = sys.executable
     folder = Path(tempfile.mkdtemp(prefix="bench-pipeline-"))
-    print("\n2. fresh processes: the command against refining alone (start-up included); best of")
-    print(f"   {repeat} interleaved runs, and the ratio of the medians")
-    print(
-        f"{'domain':>10} {'L':>2} {'refine':>8} {'mesh':>8} {'ratio':>6} {'median':>6} "
-        f"{'refine+xdmf':>12} {'mesh -o xdmf':>13} {'ratio':>6} {'median':>6}"
+    table = page.table(
+        "2. Fresh processes: the command against refining alone, start-up included",
+        [
+            "domain",
+            "level",
+            "refine alone",
+            "`blockmesh mesh`",
+            "ratio (best, median)",
+            "refine + XDMF",
+            "`mesh -o m.xdmf`",
+            "ratio (best, median)",
+        ],
     )
     try:
         for name, level in CASES:
@@ -115,42 +132,63 @@ def fresh(repeat: int) -> None:
             )  # fmt: skip
             best = {key: min(values) for key, values in t.items()}
             median = {key: statistics.median(values) for key, values in t.items()}
-            print(
-                f"{name:>10} {level:>2} {best['alone']:>7.2f}s {best['command']:>7.2f}s "
-                f"{best['command'] / best['alone']:>5.2f}x "
-                f"{median['command'] / median['alone']:>5.2f}x "
-                f"{best['alone_out']:>11.2f}s {best['command_out']:>12.2f}s "
-                f"{best['command_out'] / best['alone_out']:>5.2f}x "
-                f"{median['command_out'] / median['alone_out']:>5.2f}x"
+            table.row(
+                name,
+                level,
+                f"{best['alone']:.2f} s",
+                f"{best['command']:.2f} s",
+                f"{best['command'] / best['alone']:.2f}, {median['command'] / median['alone']:.2f}",
+                f"{best['alone_out']:.2f} s",
+                f"{best['command_out']:.2f} s",
+                f"{best['command_out'] / best['alone_out']:.2f}, "
+                f"{median['command_out'] / median['alone_out']:.2f}",
             )
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+    table.note(
+        f"`blockmesh mesh DOMAIN --level L [-o m.xdmf]` against `python -c` refining the same "
+        f"domain [and writing the same file]; {repeat} interleaved runs of the four commands, the "
+        "ratio of the best times and of the medians."
+    )
 
 
-def startup(repeat: int) -> None:
+def startup(page: Page, repeat: int) -> None:
     python = sys.executable
     floor = wall([python, "-c", "pass"], repeat)
     version = wall(["blockmesh", "--version"], repeat)
     helping = wall(["blockmesh", "--help"], repeat)
     importing = wall([python, "-c", "import numpy"], repeat)
-    print("\n3. start-up (best of runs, fresh processes)")
-    print(f"  python -c pass        {floor * 1e3:6.0f} ms")
-    print(f"  python -c 'import numpy' {importing * 1e3:4.0f} ms")
-    print(f"  blockmesh --version   {version * 1e3:6.0f} ms ({version / floor:.1f}x python)")
-    print(f"  blockmesh --help      {helping * 1e3:6.0f} ms ({helping / floor:.1f}x python)")
+    table = page.table(
+        "3. Start-up, fresh processes (best of runs)", ["command", "time", "over python"]
+    )
+    table.row("`python -c pass`", f"{floor * 1e3:.0f} ms", "1")
+    table.row("`python -c 'import numpy'`", f"{importing * 1e3:.0f} ms", f"{importing / floor:.1f}")
+    table.row("`blockmesh --version`", f"{version * 1e3:.0f} ms", f"{version / floor:.1f}")
+    table.row("`blockmesh --help`", f"{helping * 1e3:.0f} ms", f"{helping / floor:.1f}")
+
+
+ABOUT = """\
+What `blockmesh mesh` costs on top of the refinement: in one process, each stage the command runs
+on the refined mesh as a multiple of the refinement's time; in fresh processes (what a user runs),
+the command against `python -c` refining the same domain, with and without writing an XDMF file;
+and the start-up of the command. Ratios are against the peer measured in the same run (the
+machines are shared)."""
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--part", choices=("all", "stages", "fresh", "startup"), default="all")
+    add_arguments(parser)
     args = parser.parse_args()
+    page = Page("pipeline", "The whole command", ABOUT)
     if args.part in ("all", "stages"):
-        in_process(args.repeat)
+        in_process(page, args.repeat)
     if args.part in ("all", "fresh"):
-        fresh(args.repeat)
+        fresh(page, args.repeat)
     if args.part in ("all", "startup"):
-        startup(max(5, args.repeat))
+        startup(page, max(5, args.repeat))
+    page.write(args)
 
 
 if __name__ == "__main__":

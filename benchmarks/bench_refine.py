@@ -19,11 +19,16 @@ import time
 import tracemalloc
 
 import numpy as np
+from _page import Page, add_arguments
 
 import blockmesh
-from blockmesh.catalogue import catalogue_names
-from blockmesh.template import TEMPLATE_CACHE_BYTES, cached_template_bytes, pentagon_template
-from blockmesh.threads import default_threads
+from blockmesh._system.threads import default_threads
+from blockmesh.domain.catalogue import catalogue_names
+from blockmesh.refinement.template import (
+    TEMPLATE_CACHE_BYTES,
+    cached_template_bytes,
+    pentagon_template,
+)
 
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 
@@ -116,40 +121,61 @@ def gmsh_rate(target_triangles: int) -> tuple[float, int]:
         gmsh.finalize()
 
 
+ABOUT = """\
+`blockmesh.refine` on a single pentagon (the paper's SP) at levels 4-8, warm (the template cached)
+and on the first call in a fresh process; every catalogue domain at the level that gives about
+3 M cells, with the default worker threads and with one, against SP in the same run and against
+the floor of allocating and writing as many bytes as the output (`np.ones`); the peak memory over
+the output arrays; and the peers (Triangle, gmsh; `pip install -e '.[bench]'`) meshing the same
+pentagon. Best of several runs after a warm-up; timings on shared machines are noisy."""
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--gmsh-triangles", type=int, default=200_000)
+    add_arguments(parser)
     args = parser.parse_args()
+    page = Page("refine", "Refinement", ABOUT)
 
     sp = blockmesh.load_domain("sp")
-    print("blockmesh refine, single pentagon (SP), warm (template cached):")
-    print(f"{'level':>5} {'cells':>11} {'ms':>9} {'ns/cell':>8} {'M cells/s':>10}")
+    single = page.table(
+        "A single pentagon (SP), warm (template cached)",
+        ["level", "cells", "time", "ns/cell", "M cells/s"],
+    )
     rates = {}
     for level in range(4, 9):
         repeat = args.repeat if level >= 7 else 4 * args.repeat
         seconds = best_of(lambda level=level: blockmesh.refine(sp, level), repeat)
         cells = 6**level
         rates[level] = cells / seconds
-        print(
-            f"{level:>5} {cells:>11,} {seconds * 1e3:>9.2f} {seconds / cells * 1e9:>8.1f} "
-            f"{cells / seconds / 1e6:>10.1f}"
+        single.row(
+            level,
+            f"{cells:,}",
+            f"{seconds * 1e3:.2f} ms",
+            f"{seconds / cells * 1e9:.1f}",
+            f"{cells / seconds / 1e6:.1f}",
         )
     first, first_peak = first_call(8)
-    print(
-        f"first call in a fresh process, level 8: {first * 1e3:.0f} ms = "
+    single.note(
+        f"First call in a fresh process, level 8: {first * 1e3:.0f} ms = "
         f"{6**8 / first / 1e6:.1f} M cells/s ({first / 6**8 * 1e9:.0f} ns/cell), "
-        f"peak memory {first_peak:.2f} x the output arrays"
+        f"peak memory {first_peak:.2f} x the output arrays."
     )
     threads = default_threads()
-    print(
-        f"\nevery catalogue domain at the level giving about 3 M cells, warm, {threads} worker "
-        "thread(s) (the default) and 1; ratio: ns per cell over SP's at level 8 in the same run; "
-        "floor: allocating and writing as many bytes as the output, np.ones"
-    )
-    print(
-        f"{'domain':>18} {'blocks':>6} {'level':>5} {'cells':>11} {'ms':>8} {'ns/cell':>8} "
-        f"{'1 thread':>8} {'ratio':>6} {'floor':>6}"
+    domains = page.table(
+        "Every catalogue domain at the level giving about 3 M cells, warm",
+        [
+            "domain",
+            "blocks",
+            "level",
+            "cells",
+            "time",
+            f"ns/cell, {threads} thread(s)",
+            "ns/cell, 1 thread",
+            "over SP",
+            "floor ns/cell",
+        ],
     )
     sp_ns = best_of(lambda: blockmesh.refine(sp, 8), args.repeat) / 6**8
     worst = ("", 0.0)
@@ -158,46 +184,57 @@ def main() -> None:
         level = max(1, round(math.log(3e6 / domain.n_blocks, 6)))
         cells = domain.n_blocks * 6**level
         seconds = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv), args.repeat)
-        single = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv, threads=1), args.repeat)
+        one = best_of(lambda d=domain, lv=level: blockmesh.refine(d, lv, threads=1), args.repeat)
         nbytes = blockmesh.refine(domain, level).nbytes()
         floor = best_of(lambda n=nbytes: np.ones(n // 8), args.repeat)
         ns = seconds / cells * 1e9
         worst = max(worst, (name, ns), key=lambda pair: pair[1])
-        print(
-            f"{name:>18} {domain.n_blocks:>6} {level:>5} {cells:>11,} {seconds * 1e3:>8.1f} "
-            f"{ns:>8.1f} {single / cells * 1e9:>8.1f} {ns / (sp_ns * 1e9):>6.2f} "
-            f"{floor / cells * 1e9:>6.1f}"
+        domains.row(
+            name,
+            domain.n_blocks,
+            level,
+            f"{cells:,}",
+            f"{seconds * 1e3:.1f} ms",
+            f"{ns:.1f}",
+            f"{one / cells * 1e9:.1f}",
+            f"{ns / (sp_ns * 1e9):.2f}",
+            f"{floor / cells * 1e9:.1f}",
         )
-    print(f"slowest domain: {worst[0]} at {worst[1]:.1f} ns per cell (SP: {sp_ns * 1e9:.1f})")
-    joined = blockmesh.load_domain("joined-8")
-    print(
-        f"template cache: {cached_template_bytes() / 1e6:.0f} MB kept "
-        f"(bounded by {TEMPLATE_CACHE_BYTES / 2**20:.0f} MiB)"
+    domains.note(
+        f'{threads} worker thread(s) is the default here. "over SP": ns per cell over SP\'s at '
+        f"level 8 in the same run ({sp_ns * 1e9:.1f}); floor: allocating and writing as many "
+        f"bytes as the output (np.ones). Slowest domain: {worst[0]} at {worst[1]:.1f} ns per cell."
     )
+    joined = blockmesh.load_domain("joined-8")
+    memory = [
+        f"Template cache: {cached_template_bytes() / 1e6:.0f} MB kept "
+        f"(bounded by {TEMPLATE_CACHE_BYTES / 2**20:.0f} MiB)."
+    ]
     for name, domain, level in (("SP", sp, 8), ("joined-8", joined, 7)):
         ratio, nbytes = peak_ratio(domain, level)
-        print(
-            f"peak memory {name} level {level}: {ratio:.2f} x the output arrays "
-            f"({nbytes / 1e6:.0f} MB)"
+        memory.append(
+            f"Peak memory (tracemalloc), {name} at level {level}: {ratio:.2f} x the output "
+            f"arrays ({nbytes / 1e6:.0f} MB)."
         )
+    page.text(" ".join(memory))
 
-    print("\npeers on the same pentagon (elements per second; ratio = blockmesh level 8 / peer):")
+    peers = page.table(
+        "Peers meshing the same pentagon",
+        ["peer", "triangles", "M triangles/s", "blockmesh (SP level 8) faster per element"],
+    )
     try:
         tri_rate, tri_count = triangle_rate(6**8, max(2, args.repeat // 2))
-        print(
-            f"  Triangle: {tri_count:,} triangles at {tri_rate / 1e6:.2f} M/s -> blockmesh is "
-            f"{rates[8] / tri_rate:.0f}x faster per element"
+        peers.row(
+            "Triangle", f"{tri_count:,}", f"{tri_rate / 1e6:.2f}", f"{rates[8] / tri_rate:.0f}x"
         )
     except ImportError:
-        print("  Triangle: not installed (pip install triangle)")
+        page.text("Triangle is not installed (`pip install triangle`).")
     try:
         gm_rate, gm_count = gmsh_rate(args.gmsh_triangles)
-        print(
-            f"  gmsh:     {gm_count:,} triangles at {gm_rate / 1e6:.3f} M/s -> blockmesh is "
-            f"{rates[8] / gm_rate:.0f}x faster per element"
-        )
+        peers.row("gmsh", f"{gm_count:,}", f"{gm_rate / 1e6:.3f}", f"{rates[8] / gm_rate:.0f}x")
     except ImportError:
-        print("  gmsh: not installed (pip install gmsh)")
+        page.text("gmsh is not installed (`pip install gmsh`).")
+    page.write(args)
 
 
 if __name__ == "__main__":

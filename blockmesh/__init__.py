@@ -16,16 +16,18 @@ Examples
 144
 """
 
-from __future__ import annotations
+import importlib as _importlib
+import typing as _typing
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from blockmesh import _moved
+
+_moved.install()
 
 __version__ = "0.1.0"
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
-    "Domain": "domain",
+    "Domain": "domain.domain",
     "ArgumentError": "errors",
     "ArgumentTypeError": "errors",
     "BlockMeshError": "errors",
@@ -38,19 +40,20 @@ _EXPORTS = {
     "SolverError": "errors",
     "TopologyError": "errors",
     "UnknownNameError": "errors",
-    "exact_integral": "exact",
-    "parse_expression": "expr",
+    "exact_integral": "quadrature.exact",
+    "parse_expression": "numerics.expr",
     "read": "io",
     "write": "io",
-    "load_domain": "loading",
-    "parse_polygon_string": "loading",
-    "Mesh": "mesh",
-    "MeshQuality": "mesh",
+    "load_domain": "domain.loading",
+    "parse_polygon_string": "domain.loading",
+    "Mesh": "mesh.mesh",
+    "MeshQuality": "mesh.mesh",
+    "PolygonMesh": "mesh.polygons",
     "IntegrationResult": "quadrature",
     "integrate": "quadrature",
     "integrate_to_tolerance": "quadrature",
     "quadrature_points": "quadrature",
-    "refine": "refinement",
+    "refine": "refinement.pipeline",
 }
 
 __all__ = [
@@ -66,6 +69,7 @@ __all__ = [
     "IntegrationResult",
     "Mesh",
     "MeshQuality",
+    "PolygonMesh",
     "ResourceError",
     "SolverError",
     "TopologyError",
@@ -83,24 +87,36 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
+#: What ``dir(blockmesh)`` lists besides :data:`__all__`: the module's own dunder basics.
+_DUNDERS = ("__all__", "__doc__", "__file__", "__name__", "__path__", "__version__")
+
+
+def __getattr__(name: str) -> _typing.Any:
     """Import a public name's module on first use and cache the name here."""
     module = _EXPORTS.get(name)
     if module is None:
         raise AttributeError(f"module 'blockmesh' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    value = getattr(_importlib.import_module(f".{module}", __name__), name)
     globals()[name] = value
     return value
 
 
 def __dir__() -> list[str]:
-    """The public names with the module's own."""
-    return sorted(set(globals()) | set(_EXPORTS))
+    """The public names (:data:`__all__`) and the dunder basics, not the helpers or submodules.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> "refine" in dir(blockmesh), "importlib" in dir(blockmesh)
+    (True, False)
+    """
+    return sorted({*__all__, *_DUNDERS})
 
 
-if TYPE_CHECKING:  # for type checkers and IDEs: the names as if imported eagerly
-    from .domain import Domain
-    from .errors import (
+if _typing.TYPE_CHECKING:  # for type checkers and IDEs: the names as if imported eagerly
+    from blockmesh.domain.domain import Domain
+    from blockmesh.domain.loading import load_domain, parse_polygon_string
+    from blockmesh.errors import (
         ArgumentError,
         ArgumentTypeError,
         BlockMeshError,
@@ -114,15 +130,15 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the names as if imported eagerl
         TopologyError,
         UnknownNameError,
     )
-    from .exact import exact_integral
-    from .expr import parse_expression
-    from .io import read, write
-    from .loading import load_domain, parse_polygon_string
-    from .mesh import Mesh, MeshQuality
-    from .quadrature import (
+    from blockmesh.io import read, write
+    from blockmesh.mesh.mesh import Mesh, MeshQuality
+    from blockmesh.mesh.polygons import PolygonMesh
+    from blockmesh.numerics.expr import parse_expression
+    from blockmesh.quadrature import (
         IntegrationResult,
         integrate,
         integrate_to_tolerance,
         quadrature_points,
     )
-    from .refinement import refine
+    from blockmesh.quadrature.exact import exact_integral
+    from blockmesh.refinement.pipeline import refine

@@ -2,6 +2,7 @@
 
 import sys
 
-from .cli import main
+from blockmesh.cli import main
 
-sys.exit(main())
+if __name__ == "__main__":  # not when imported (documentation tools import every module)
+    sys.exit(main())

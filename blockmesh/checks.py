@@ -21,15 +21,18 @@ blockmesh.errors.ArgumentError: unknown split 'tri9'; choose one of: tri5, tri3
 
 from __future__ import annotations
 
+import functools
+import inspect
 import numbers
-from collections.abc import Iterable
+import warnings
+from collections.abc import Callable, Iterable
 from typing import Any, TypeVar
 
 import numpy as np
 
-from .errors import ArgumentError, ArgumentTypeError
+from blockmesh.errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["choice", "readonly", "whole_number"]
+__all__ = ["choice", "readonly", "renamed_keywords", "whole_number"]
 
 T = TypeVar("T")
 
@@ -103,3 +106,48 @@ def readonly(values: Any, dtype: Any = None) -> np.ndarray:
     array = np.array(values, dtype=dtype, copy=True)
     array.setflags(write=False)
     return array
+
+
+def renamed_keywords(**renamed: str) -> Callable[[Callable[..., T]], Callable[..., T]]:
+    """Let a function still take its keywords' earlier names, with a DeprecationWarning.
+
+    ``renamed`` maps each earlier name to the current one; giving both is an ArgumentError.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> @renamed_keywords(function="f")
+    ... def integrate(f=None):
+    ...     return f
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     integrate(function="x*y")
+    'x*y'
+    >>> integrate(1, function=2)
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ArgumentError: integrate() got both f and its earlier name function; give f
+    """
+
+    def decorate(function: Callable[..., T]) -> Callable[..., T]:
+        positions = {name: k for k, name in enumerate(inspect.signature(function).parameters)}
+
+        @functools.wraps(function)
+        def wrapper(*args: Any, **kwargs: Any) -> T:
+            for old, new in renamed.items():
+                if old not in kwargs:
+                    continue
+                if new in kwargs or positions.get(new, len(args)) < len(args):
+                    raise ArgumentError(
+                        f"{function.__name__}() got both {new} and its earlier name {old}; "
+                        f"give {new}"
+                    )
+                warnings.warn(
+                    f"{function.__name__}(): {old}= is now {new}=", DeprecationWarning, stacklevel=2
+                )
+                kwargs[new] = kwargs.pop(old)
+            return function(*args, **kwargs)
+
+        return wrapper
+
+    return decorate

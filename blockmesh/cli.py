@@ -15,18 +15,16 @@ True
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
-import signal
 import sys
-import threading
 import warnings
-from collections.abc import Iterator, Sequence
-from typing import Any
+from collections.abc import Sequence
+from typing import ClassVar, NoReturn
 
-from . import __version__
-from .commands import SUMMARIES, load
-from .errors import BlockMeshError
+from blockmesh import __version__
+from blockmesh._system.interrupts import Terminated, raise_pending, stop_on_signals
+from blockmesh.commands import SUMMARIES, load
+from blockmesh.errors import BlockMeshError
 
 __all__ = ["Terminated", "build_parser", "main"]
 
@@ -38,7 +36,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     and registered in full; the others are listed by name and summary, which is all
     ``blockmesh --help`` needs.
     """
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="blockmesh",
         description="Multi-block all-pentagonal meshes of 2-D domains: check, show, mesh, "
         "integrate, export.",
@@ -57,60 +55,21 @@ def _show_warning(message, *_details: object, **_where: object) -> None:
     print(f"blockmesh: warning: {_printable(str(message))}", file=sys.stderr)
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM or SIGHUP arrived: unwound like Ctrl-C, so no output is left half-written."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signum)
-        self.signum = signum
-
-
-#: The signals received while the command ran (see :func:`_signals_as_interrupts`).
-_RECEIVED: list[int] = []
-
-
-def _terminate(signum: int, _frame: object) -> None:
-    _RECEIVED.append(signum)
-    if signum == signal.SIGINT:
-        raise KeyboardInterrupt
-    raise Terminated(signum)
-
-
-@contextlib.contextmanager
-def _signals_as_interrupts() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise :class:`Terminated`, SIGINT KeyboardInterrupt (main thread only).
-
-    Each signal is also recorded: one that arrives while Python runs a finaliser (a weak
-    reference's callback, a ``__del__``) has its exception swallowed ("Exception ignored"), and
-    :func:`main` then still stops with the signal's exit code.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    _RECEIVED.clear()
-    names = ("SIGINT", "SIGTERM", "SIGHUP")
-    wanted = [getattr(signal, name) for name in names if hasattr(signal, name)]
-    previous = {signum: signal.signal(signum, _terminate) for signum in wanted}
-    hook = sys.unraisablehook
-
-    def unraisable(info: Any) -> None:
-        if not issubclass(info.exc_type, KeyboardInterrupt):  # a signal's: handled by main
-            hook(info)
-
-    sys.unraisablehook = unraisable
-    try:
-        yield
-    finally:
-        sys.unraisablehook = hook
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
-
-
 def _remove_pending() -> None:
     """Remove temporaries a signal stranded between their creation and their ``try``."""
-    atomic = sys.modules.get("blockmesh.atomic")  # not imported: nothing was written
+    atomic = sys.modules.get("blockmesh._system.atomic")  # not imported: nothing was written
     if atomic is not None:
         atomic.remove_pending()
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser that remembers its last usage error (for ``--json``)."""
+
+    last_error: ClassVar[list[str]] = []
+
+    def error(self, message: str) -> NoReturn:
+        _Parser.last_error[:] = [message]
+        super().error(message)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -120,65 +79,102 @@ def main(argv: Sequence[str] | None = None) -> int:
     the request (one readable line on stderr), 3 an unexpected internal error (a bug: set
     ``BLOCKMESH_DEBUG=1`` to see its traceback), 130 Ctrl-C, 128 + N for signal N
     (SIGTERM 143, SIGHUP 129).
+
+    With ``--json`` every outcome is exactly one JSON object on stdout: the command's report,
+    or on failure ``{"error": {"type": ..., "message": ..., "exit_code": ...}}`` (the line on
+    stderr is printed as well). A usage error raises :class:`SystemExit` (code 2) as argparse
+    does, after its JSON object.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     chosen = next((a for a in argv if not a.startswith("-")), "")
     parser = build_parser(chosen if chosen in SUMMARIES else "")
-    args = parser.parse_args(argv)
+    _Parser.last_error.clear()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:
+        if stop.code not in (0, None) and "--json" in argv and _Parser.last_error:
+            _print_json_error("UsageError", _Parser.last_error[0], 2)
+        raise
     where = f"blockmesh {args.command}"
-    with warnings.catch_warnings(), _signals_as_interrupts():
+    wants_json = bool(getattr(args, "json", False))
+    printed = _json_objects_printed()
+    with warnings.catch_warnings(), stop_on_signals():
         warnings.showwarning = _show_warning
-        try:
-            code = int(args.run(args))
-            if _RECEIVED:  # its exception was swallowed by a finaliser: stop as it asked
-                raise (
-                    Terminated(_RECEIVED[0]) if _RECEIVED[0] != signal.SIGINT else KeyboardInterrupt
-                )
-            return code
-        except BlockMeshError as error:
-            print(f"{where}: error: {_printable(str(error))}", file=sys.stderr)
-            return 2
-        except Terminated as stop:
-            _remove_pending()
-            print(f"{where}: terminated by signal {stop.signum}", file=sys.stderr)
-            return 128 + stop.signum
-        except KeyboardInterrupt:
-            _remove_pending()
-            print(f"{where}: interrupted", file=sys.stderr)
-            return 130
-        except BrokenPipeError:
-            # The reader went away (e.g. `| head`): stop quietly, as Unix tools do.
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
-            return 141
-        except MemoryError:
-            print(
-                f"{where}: error: ran out of memory; try a lower level or free memory "
-                "(--max-memory sets the limit the size checks use)",
-                file=sys.stderr,
-            )
-            return 2
-        except RecursionError:
-            print(f"{where}: error: the input is nested too deeply to read", file=sys.stderr)
-            return 2
-        except OSError as error:
-            target = f" {error.filename}" if error.filename else ""
-            print(f"{where}: error:{target}: {error.strerror or error}", file=sys.stderr)
-            return 2
-        except Exception as error:
-            if os.environ.get("BLOCKMESH_DEBUG"):
-                raise
-            print(
-                f"{where}: internal error ({type(error).__name__}: {_printable(str(error))}); "
-                "this is a bug in blockmesh: please report it with the command you ran "
-                "(BLOCKMESH_DEBUG=1 shows the traceback)",
-                file=sys.stderr,
-            )
-            return 3
+        code, failure = _run(args, where)
+    if failure is not None and wants_json and _json_objects_printed() == printed:
+        _print_json_error(*failure, code)
+    return code
+
+
+#: A failed command: the error's type name and its message.
+Failure = tuple[str, str]
+
+
+def _run(args: argparse.Namespace, where: str) -> tuple[int, Failure | None]:
+    """Run the command: its exit code, and what failed (None on success)."""
+
+    def fail(code: int, kind: str, message: str, line: str | None = None) -> tuple[int, Failure]:
+        print(line or f"{where}: error: {message}", file=sys.stderr)
+        return code, (kind, message)
+
+    try:
+        code = int(args.run(args))
+        raise_pending()  # a signal a finaliser swallowed still stops the command
+        return code, None
+    except BlockMeshError as error:
+        return fail(2, type(error).__name__, _printable(str(error)))
+    except Terminated as stop:
+        _remove_pending()
+        message = f"terminated by signal {stop.signum}"
+        return fail(128 + stop.signum, "Terminated", message, f"{where}: {message}")
+    except KeyboardInterrupt:
+        _remove_pending()
+        return fail(130, "KeyboardInterrupt", "interrupted", f"{where}: interrupted")
+    except BrokenPipeError:
+        # The reader went away (e.g. `| head`): stop quietly, as Unix tools do.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141, None
+    except MemoryError:
+        return fail(
+            2,
+            "MemoryError",
+            "ran out of memory; try a lower level or free memory (--max-memory sets the limit "
+            "the size checks use)",
+        )
+    except RecursionError:
+        return fail(2, "RecursionError", "the input is nested too deeply to read")
+    except OSError as error:
+        target = f" {_printable(str(error.filename))}" if error.filename else ""
+        message = f"{target[1:] + ': ' if target else ''}{error.strerror or error}"
+        return fail(
+            2, type(error).__name__, message, f"{where}: error:{target}: {error.strerror or error}"
+        )
+    except Exception as error:
+        if os.environ.get("BLOCKMESH_DEBUG"):
+            raise
+        message = (
+            f"internal error ({type(error).__name__}: {_printable(str(error))}); this is a bug "
+            "in blockmesh: please report it with the command you ran (BLOCKMESH_DEBUG=1 shows "
+            "the traceback)"
+        )
+        return fail(3, type(error).__name__, message, f"{where}: {message}")
+
+
+def _json_objects_printed() -> int:
+    from blockmesh.commands.common import json_objects_printed
+
+    return json_objects_printed()
+
+
+def _print_json_error(kind: str, message: str, code: int) -> None:
+    from blockmesh.commands.common import json_error, print_json
+
+    print_json(json_error(kind, message, code))
 
 
 def _printable(text: str) -> str:
-    from .commands._common import printable
+    from blockmesh.commands.common import printable
 
     return printable(text, keep="\n")
 

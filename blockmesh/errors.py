@@ -13,6 +13,8 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 __all__ = [
     "ArgumentError",
     "ArgumentTypeError",
@@ -26,6 +28,7 @@ __all__ = [
     "SolverError",
     "TopologyError",
     "UnknownNameError",
+    "fmt_point",
 ]
 
 
@@ -92,3 +95,14 @@ class BlockMeshWarning(UserWarning):
     Repairs: clockwise order reversed, a repeated closing vertex or a straight corner dropped.
     Doubts: an integral whose error estimate is large (a singular or unresolved integrand).
     """
+
+
+def fmt_point(point: Iterable[float], digits: int = 12) -> str:
+    """A point as messages show it: ``(x, y)``, each coordinate to ``digits`` significant digits.
+
+    Examples
+    --------
+    >>> fmt_point([1.0, 0.25]), fmt_point((1 / 3, 2.0), digits=6)
+    ('(1, 0.25)', '(0.333333, 2)')
+    """
+    return "(" + ", ".join(f"{float(c):.{digits}g}" for c in point) + ")"

@@ -12,15 +12,25 @@ True
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from .atomic import atomic_file
-from .errors import ExportError
+from blockmesh._system.atomic import atomic_file
+from blockmesh.checks import choice
+from blockmesh.errors import ExportError
+from blockmesh.geometry.polygons import signed_area
+from blockmesh.geometry.topology import cell_neighbours
+from blockmesh.mesh.measures import cell_shapes
+from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.refinement.sizes import DRAW_LIMIT
 
 __all__ = [
     "DRAW_LIMIT",
+    "LABELS",
     "LABEL_LIMIT",
+    "domain_figure",
+    "mesh_figure",
     "plot_domain",
     "plot_mesh",
     "plot_quality",
@@ -30,9 +40,9 @@ __all__ = [
 
 #: Meshes with at most this many cells get node and cell numbers (like the paper's Figs. 2-4).
 LABEL_LIMIT = 400
-#: Meshes with more cells than this are drawn as a picture of their cell density with the block
-#: outlines and patches: every polygon would be far below a pixel and take minutes to draw.
-DRAW_LIMIT = 200_000
+#: Which blocks :func:`plot_domain` numbers: those whose number fits inside them (``"auto"``),
+#: every block, or none.
+LABELS = ("auto", "all", "none")
 #: Pixels across the longer side of the cell-density picture (fewer when the largest cells
 #: are bigger than such a pixel).
 DENSITY_PIXELS = 800
@@ -119,13 +129,21 @@ def _block_outlines(domain) -> list[np.ndarray]:
     return outlines
 
 
-def plot_domain(domain, path: str | Path) -> Path:
+def plot_domain(domain, path: str | Path, *, labels: str = "auto") -> Path:
     """Draw the blocks (numbered), vertices (numbered) and patches (coloured, with a legend).
 
-    Regions are shaded. Returns the path written.
+    Regions are shaded. ``labels`` says which blocks are numbered (:data:`LABELS`): by default
+    those whose number fits inside the block as drawn, so that no two numbers overlap. Returns
+    the path written.
     """
+    return save_figure(domain_figure(domain, labels=labels), path)
+
+
+def domain_figure(domain, *, labels: str = "auto"):
+    """The matplotlib Figure :func:`plot_domain` saves (close it with ``pyplot().close``)."""
     from matplotlib.collections import PolyCollection
 
+    choice(labels, LABELS, "labels")
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 7))
     xy = domain.vertices[domain.blocks]
@@ -142,11 +160,8 @@ def plot_domain(domain, path: str | Path) -> Path:
         domain.patch_names,
         domain.curves,
     )
-    centres = xy.mean(axis=1)
-    size = 11 if domain.n_blocks <= 30 else 7
-    for b, (x, y) in enumerate(centres):
-        ax.text(x, y, str(b), ha="center", va="center", fontsize=size, weight="bold", color="0.2")
-    ax.plot(domain.vertices[:, 0], domain.vertices[:, 1], "o", ms=3, color="k")
+    dot = 3 if domain.n_vertices <= 500 else 1  # many vertices: dots that do not merge
+    ax.plot(domain.vertices[:, 0], domain.vertices[:, 1], "o", ms=dot, color="k")
     if domain.n_vertices <= 150:
         for v, (x, y) in enumerate(domain.vertices):
             ax.annotate(
@@ -161,41 +176,113 @@ def plot_domain(domain, path: str | Path) -> Path:
             for k, n in enumerate(domain.region_names)
         ]
         fig.legend(handles=handles, title="regions", loc="lower left", bbox_to_anchor=(0.91, 0.1))
-    _frame(
-        ax,
-        domain.vertices,
-        f"{domain.name}: {domain.n_blocks} blocks, {domain.n_vertices} vertices "
-        f"(blocks bold, vertices blue)",
+    _frame(ax, domain.vertices, "")
+    size = 11 if domain.n_blocks <= 30 else 7
+    centres = xy.mean(axis=1)
+    numbered = np.full(domain.n_blocks, labels == "all")
+    if labels == "auto":
+        numbered = _labels_fit(ax, xy, centres, size)
+    for b in np.flatnonzero(numbered).tolist():
+        x, y = centres[b]
+        ax.text(x, y, str(b), ha="center", va="center", fontsize=size, weight="bold", color="0.2")
+    shown = int(np.count_nonzero(numbered))
+    which = (
+        "blocks bold"
+        if shown == domain.n_blocks
+        else f"numbers where they fit: {shown:,} of {domain.n_blocks:,} blocks"
+        if labels == "auto"
+        else "block numbers off"
     )
-    return save_figure(fig, path)
+    ax.set_title(
+        f"{domain.name}: {domain.n_blocks:,} blocks, {domain.n_vertices:,} vertices "
+        f"({which}{', vertices blue' if domain.n_vertices <= 150 else ''})"
+    )
+    return fig
+
+
+def _labels_fit(ax, polygons: np.ndarray, centres: np.ndarray, size: float) -> np.ndarray:
+    """Which polygons (B, 5, 2), drawn in ``ax``, hold their number's box around their centre.
+
+    The box of a bold number is about 0.7 em wide per digit and 1.2 em high (DejaVu Sans); it
+    fits when its four corners are inside the convex polygon on the screen, so numbers that fit
+    never overlap one another.
+    """
+    ax.apply_aspect()
+    to_screen = ax.transData.transform
+    corners = to_screen(polygons.reshape(-1, 2)).reshape(polygons.shape)
+    middle = to_screen(centres)
+    em = size * ax.figure.dpi / 72.0
+    digits = np.char.str_len(np.arange(polygons.shape[0]).astype(str))
+    half = np.stack([0.35 * em * digits, np.full(digits.shape, 0.6 * em)], axis=1)
+    signs = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float)
+    box = middle[:, None, :] + signs[None] * half[:, None, :]  # (B, 4, 2)
+    start = corners[:, None, :, :]  # (B, 1, 5, 2) against every box corner
+    edge = np.roll(corners, -1, axis=1)[:, None] - start
+    to_box = box[:, :, None, :] - start
+    turn = edge[..., 0] * to_box[..., 1] - edge[..., 1] * to_box[..., 0]
+    return np.all(turn > 0, axis=(1, 2))
 
 
 def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
-    """Draw the cells (shaded by block), the patches, and numbers when few enough to read.
+    """Draw the cells (shaded by block or region), the patches, and numbers when few enough.
 
     ``labels=None`` numbers nodes (blue) and cells (black) when there are at most
-    ``LABEL_LIMIT`` cells. A mesh of more than ``DRAW_LIMIT`` cells is drawn as its cell density
-    (cells per unit area, a colour picture of ``DENSITY_PIXELS`` across) with the block outlines
-    and the patches, and the title says so; that takes about a second per few million cells.
+    ``LABEL_LIMIT`` cells. A mesh with more than one region colours each region, outlines the
+    blocks and lists the regions in a legend. A mesh of more than ``DRAW_LIMIT`` cells is drawn
+    as its cell density (cells per unit area, a colour picture of ``DENSITY_PIXELS`` across)
+    with the block outlines and the patches, and the title says so; that takes about a second
+    per few million cells.
     """
+    return save_figure(mesh_figure(mesh, labels=labels), path)
+
+
+def mesh_figure(mesh, *, labels: bool | None = None):
+    """The matplotlib Figure :func:`plot_mesh` saves (close it with ``pyplot().close``)."""
     if mesh.n_cells > DRAW_LIMIT:
-        return _plot_density(mesh, path)
-    from matplotlib.collections import PolyCollection
+        return _density_figure(mesh)
+    from matplotlib.collections import LineCollection, PolyCollection
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 8))
-    xy = mesh.points[mesh.cells]
-    n_blocks = int(mesh.block_id.max()) + 1 if mesh.n_cells else 1
-    palette = plt.get_cmap("Pastel1" if n_blocks <= 9 else "tab20")
-    faces = palette((mesh.block_id % palette.N) / max(palette.N - 1, 1))
+    polygons = isinstance(mesh, PolygonMesh)
+    if polygons:
+        xy: Any = [mesh.points[c] for c in mesh.cell_lists()]
+        centres = mesh.vertex_means()
+    else:
+        xy = mesh.points[mesh.cells]
+        centres = xy.mean(axis=1)
+    regions = np.unique(mesh.region)
+    if regions.size > 1:
+        palette = plt.get_cmap("Set3")
+        faces = palette(mesh.region % palette.N)
+    else:
+        n_blocks = int(mesh.block_id.max()) + 1 if mesh.n_cells else 1
+        palette = plt.get_cmap("Pastel1" if n_blocks <= 9 else "tab20")
+        faces = palette((mesh.block_id % palette.N) / max(palette.N - 1, 1))
     width = 0.8 if mesh.n_cells <= 5000 else 0.3 if mesh.n_cells <= 50000 else 0.1
     ax.add_collection(PolyCollection(xy, facecolors=faces, edgecolors="0.25", linewidths=width))
+    if regions.size > 1:
+        from matplotlib.patches import Patch
+
+        if int(mesh.block_id.max(initial=0)) > int(mesh.block_id.min(initial=0)):
+            outline = mesh.points[_block_interfaces(mesh)]
+            ax.add_collection(LineCollection(outline, colors="0.1", linewidths=1.2))
+        handles = [
+            Patch(facecolor=palette(k % palette.N), edgecolor="0.25", label=mesh.region_names[k])
+            for k in regions.tolist()
+        ]
+        fig.legend(handles=handles, title="regions", loc="lower left", bbox_to_anchor=(0.91, 0.1))
     _draw_patches(ax, mesh.points, mesh.boundary_edges, mesh.boundary_patch, mesh.patch_names)
+    if polygons and mesh.n_cells <= 20000:
+        hanging = mesh.points[mesh.hanging_nodes()]
+        if hanging.size:
+            ax.plot(*hanging.T, "o", ms=2.0 if mesh.n_cells <= 2000 else 1.0, color="#c44e52",
+                    label="hanging nodes")  # fmt: skip
     if labels is None:
         labels = mesh.n_cells <= LABEL_LIMIT
     if labels:
         size = 8 if mesh.n_cells <= 40 else 5 if mesh.n_cells <= 250 else 3.5
-        for c, (x, y) in enumerate(xy.mean(axis=1)):
+        for c, (x, y) in enumerate(centres):
             ax.text(x, y, str(c), ha="center", va="center", fontsize=size, color="k")
         for v, (x, y) in enumerate(mesh.points):
             ax.text(x, y, str(v), ha="left", va="bottom", fontsize=size * 0.85, color="b")
@@ -206,7 +293,7 @@ def plot_mesh(mesh, path: str | Path, *, labels: bool | None = None) -> Path:
         f"{mesh.name or 'mesh'}, level {mesh.level}: {mesh.n_cells:,} cells, "
         f"{mesh.n_points:,} nodes",
     )
-    return save_figure(fig, path)
+    return fig
 
 
 def _block_interfaces(mesh) -> np.ndarray:
@@ -218,6 +305,12 @@ def _block_interfaces(mesh) -> np.ndarray:
     scattered minima and maxima otherwise.
     """
     block_id = mesh.block_id
+    if isinstance(mesh, PolygonMesh):  # the edges whose two cells lie in different blocks
+        cells = mesh.polygon_cells()
+        across = cell_neighbours(cells, mesh.n_points)
+        owner = cells.slot_cell()
+        apart = (across >= 0) & (block_id[owner] != block_id[owner[np.maximum(across, 0)]])
+        return np.stack([mesh.nodes[apart], cells.following()[apart]], axis=1)
     ordered = bool(np.all(block_id[1:] >= block_id[:-1]))
     blocks = np.unique(
         block_id[np.r_[True, block_id[1:] != block_id[:-1]]] if ordered else block_id
@@ -252,13 +345,14 @@ def _block_interfaces(mesh) -> np.ndarray:
 
 def _largest_area(mesh) -> float:
     """The largest cell area: measured if the mesh has been, else from a sample of cells."""
+    if isinstance(mesh, PolygonMesh):
+        return float(mesh.cell_areas().max(initial=0.0))
     measured = mesh._cache.get("measures")
     if measured is not None:
         return float(measured.max_area)
     step = max(1, mesh.n_cells // 65536)
     xy = mesh.points[mesh.cells[::step]]
     xy -= xy[:, :1]
-    from .geometry import signed_area
 
     return 2.0 * float(signed_area(xy).max(initial=0.0))  # a sample can miss the largest
 
@@ -271,10 +365,16 @@ def _density_picture(mesh, pixel: float, shape: np.ndarray) -> np.ndarray:
     z_points = mesh.points.view(np.complex128).reshape(-1)
     chunk = 1 << 16
     for start in range(0, mesh.n_cells, chunk):
-        z = np.take(z_points, mesh.cells[start : start + chunk].T, mode="clip")
-        centres = z.sum(axis=0) / 5
-        local = z[1:] - z[0]
-        area = 0.5 * (local[:-1].conj() * local[1:]).imag.sum(axis=0)
+        if isinstance(mesh, PolygonMesh):
+            pieces = slice(start, start + chunk)
+            xy_centres = mesh.vertex_means()[pieces]
+            centres = xy_centres[:, 0] + 1j * xy_centres[:, 1]
+            area = mesh.cell_areas()[pieces]
+        else:
+            z = np.take(z_points, mesh.cells[start : start + chunk].T, mode="clip")
+            centres = z.sum(axis=0) / 5
+            local = z[1:] - z[0]
+            area = 0.5 * (local[:-1].conj() * local[1:]).imag.sum(axis=0)
         i = np.minimum(((centres.real - lo[0]) / pixel).astype(np.int64), shape[0] - 1)
         j = np.minimum(((centres.imag - lo[1]) / pixel).astype(np.int64), shape[1] - 1)
         where = j * shape[0] + i
@@ -285,7 +385,7 @@ def _density_picture(mesh, pixel: float, shape: np.ndarray) -> np.ndarray:
     return np.ma.masked_invalid(np.where(counts > 0, density, np.nan)).reshape(shape[1], shape[0])
 
 
-def _plot_density(mesh, path: str | Path) -> Path:
+def _density_figure(mesh):
     """The cell density (cells per unit area) as a picture, with block outlines and patches."""
     from matplotlib.collections import LineCollection
     from matplotlib.colors import LogNorm
@@ -318,7 +418,7 @@ def _plot_density(mesh, path: str | Path) -> Path:
         f"{mesh.name or 'mesh'}, level {mesh.level}: {mesh.n_cells:,} cells, "
         f"{mesh.n_points:,} nodes\ntoo many to draw one by one: cell density and block outlines",
     )
-    return save_figure(fig, path)
+    return fig
 
 
 def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
@@ -326,13 +426,14 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
 
     O(M) in chunks; the aspect ratios of all cells are kept (8 bytes per cell) for their bins.
     """
-    from .measures import cell_shapes
-
     plt = pyplot()
     angle_bins = np.linspace(0.0, 180.0, 91)
     angle_counts = np.zeros(angle_bins.size - 1)
     aspects = []
-    for angles, aspect in cell_shapes(mesh, chunk=chunk):
+    shapes = (
+        [_polygon_shapes(mesh)] if isinstance(mesh, PolygonMesh) else cell_shapes(mesh, chunk=chunk)
+    )
+    for angles, aspect in shapes:
         angle_counts += np.histogram(angles, bins=angle_bins)[0]
         aspects.append(aspect)
     aspect = np.concatenate(aspects) if aspects else np.zeros(0)
@@ -351,3 +452,15 @@ def plot_quality(mesh, path: str | Path, *, chunk: int = 1 << 16) -> Path:
     right.legend(fontsize=8)
     fig.suptitle(f"{mesh.name or 'mesh'}, level {mesh.level}: quality of {mesh.n_cells:,} cells")
     return save_figure(fig, path)
+
+
+def _polygon_shapes(mesh: PolygonMesh) -> tuple[np.ndarray, np.ndarray]:
+    """The angles at the corners (straight vertices are not corners) and the aspect ratios."""
+    incoming, outgoing = mesh._slot_vectors()
+    cross = incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0]
+    dot = np.einsum("sd,sd->s", incoming, outgoing)
+    angles = (180.0 - np.degrees(np.arctan2(cross, dot)))[~mesh.straight_vertices()]
+    areas = mesh.cell_areas()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        aspect = np.where(areas > 0, mesh.cell_diameters() ** 2 / areas, np.inf)
+    return angles, aspect

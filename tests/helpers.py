@@ -2,22 +2,52 @@
 
 from __future__ import annotations
 
-import pytest
+import math
 
-from blockmesh.catalogue import catalogue_names, catalogue_path
+import pytest
+from hypothesis import settings
+
 from blockmesh.cli import main
+from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 
 #: The catalogue domains with curved edges (their refined cells approach the curves, so the
 #: straight-edged invariants, area preserved and nodes on the block edges, do not apply to them).
 CURVED_CATALOGUE = [n for n in catalogue_names() if "[[edges]]" in catalogue_path(n).read_text()]
 #: Every straight-edged catalogue domain name.
 CATALOGUE = [n for n in catalogue_names() if n not in CURVED_CATALOGUE]
+#: The straight-edged catalogue domains of about a hundred blocks or more (decomposed polygons):
+#: a sweep over the catalogue whose work grows with the blocks takes them in the slow set only
+#: (:func:`sweep`). ``test_large_catalogue_is_the_domains_of_90_blocks_or_more`` keeps the list.
+LARGE_CATALOGUE = ("channel-obstacle", "comb", "lake-island", "plate-octagon")
+
+
+def sweep(names, large=LARGE_CATALOGUE) -> list:
+    """``names`` as parameters, the ``large`` ones marked ``slow`` (run by ``-m slow``)."""
+    return [pytest.param(n, marks=pytest.mark.slow) if n in large else n for n in names]
+
+
 #: The paper's symmetric and unsymmetrical pentagons.
 SP = [(-1.0, -1.0), (1.0, -1.0), (2.0, 0.0), (0.0, 1.0), (-2.0, 0.0)]
 USP = [(0.0, 0.0), (2.0, 0.0), (3.0, 1.0), (1.0, 3.0), (0.0, 2.0)]
 #: Two pentagons sharing the edge (1, 2).
 TWO_VERTICES = [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2), (4, 0), (4.5, 1), (4, 2)]
 TWO_BLOCKS = [(0, 1, 2, 3, 4), (1, 5, 6, 7, 2)]
+
+
+#: Examples per property in the ``ci`` hypothesis profile (hypothesis's own default count); the
+#: profiles are registered in ``conftest.py``.
+CI_EXAMPLES = 100
+
+
+def examples(ci: int) -> int:
+    """The examples of a property that runs ``ci`` of them in the ``ci`` profile, here and now.
+
+    The count scales with the loaded profile (``settings.default``, chosen before the test modules
+    are imported): ``ci`` in the ``ci`` profile, a tenth of it (at least one) in the default one.
+    Use it as ``@settings(max_examples=examples(600))``; a property with the profile's own count
+    needs no ``settings`` at all.
+    """
+    return max(1, math.ceil(ci * settings.default.max_examples / CI_EXAMPLES))
 
 
 def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from helpers import TWO_BLOCKS, TWO_VERTICES
 
+import blockmesh._system.atomic as atomic
 import blockmesh.io as bio
-from blockmesh import atomic
 from blockmesh.io import Format
 from blockmesh.mesh import Mesh
 from blockmesh.refinement import refine
@@ -108,7 +108,7 @@ class _OsProxy:
 
 
 def patch_atomic_os(monkeypatch: pytest.MonkeyPatch, **overrides: object) -> None:
-    """Replace functions of :mod:`os` as :mod:`blockmesh.atomic` sees them (fault injection)."""
+    """Replace :mod:`os` functions as :mod:`blockmesh._system.atomic` sees them (faults)."""
     monkeypatch.setattr(atomic, "os", _OsProxy(**overrides))
 
 

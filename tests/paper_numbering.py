@@ -1,7 +1,7 @@
 """A literal transcription of the paper's ``nodaladdressesforpentagon`` (0-based), for tests.
 
 Plain Python loops and a dictionary in place of the dense ``mdpt`` matrix; deliberately written
-independently of :mod:`blockmesh.template` so that the two can be compared.
+independently of :mod:`blockmesh.refinement.template` so that the two can be compared.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 A command module has ``register(subparsers)``, which adds its parser and sets ``run`` as the
 parser's default, and ``run(args) -> int``. Shared options and output helpers are in
-:mod:`blockmesh.commands._common`.
+:mod:`blockmesh.commands.common`.
 
 The modules are imported only when their command runs (:func:`load`): ``blockmesh --help`` lists
 the commands from :data:`SUMMARIES` alone, so that it and ``--version`` start fast. A test checks

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..errors import BlockMeshError
+from blockmesh._system.memory import format_bytes
+from blockmesh.commands.common import check_range
+from blockmesh.errors import BlockMeshError
 
 __all__ = ["add_partition_arguments", "check_partition_arguments"]
 
@@ -42,9 +44,12 @@ def check_partition_arguments(args: argparse.Namespace) -> bool:
         if args.workers is not None or args.scheduler is not None:
             raise BlockMeshError("--workers and --scheduler go with --partitions P")
         return False
-    from ..distributed import MAX_PARTITIONS, WORKER_BASE_BYTES, max_workers, scheduler_address
-    from ..refinement import format_bytes
-    from ._common import check_range
+    from blockmesh.distributed import (
+        MAX_PARTITIONS,
+        WORKER_BASE_BYTES,
+        max_workers,
+        scheduler_address,
+    )
 
     check_range(args.partitions, "--partitions", 1, MAX_PARTITIONS)
     if args.workers is not None and args.scheduler is not None:

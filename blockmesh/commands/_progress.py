@@ -16,7 +16,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 
-__all__ = ["SHOW_AFTER", "StageProgress"]
+__all__ = ["SHOW_AFTER", "StageProgress", "printable"]
 
 #: Seconds a stage runs before its line appears.
 SHOW_AFTER = 1.0
@@ -24,10 +24,15 @@ _TICK = 0.2
 _WIDTH = 30
 
 
-def _printable(text: str) -> str:
-    from ._common import printable  # imported here: _common imports this module
+def printable(text: str, *, keep: str = "") -> str:
+    r"""``text`` with control characters shown as escapes, safe to print on a terminal.
 
-    return printable(text)
+    Examples
+    --------
+    >>> print(printable("ring\x1b[2J"))
+    ring\x1b[2J
+    """
+    return "".join(c if c.isprintable() or c in keep else repr(c)[1:-1] for c in text)
 
 
 class StageProgress:
@@ -80,7 +85,7 @@ class StageProgress:
             return
         with self._lock:
             self._label, self._started, self._fraction, self._shown = (
-                _printable(label),
+                printable(label),
                 time.perf_counter(),
                 None,
                 False,

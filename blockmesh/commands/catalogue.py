@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..catalogue import catalogue_names
-from ..loading import load_domain
-from ._common import print_json
+from blockmesh.commands.common import print_json
+from blockmesh.domain.catalogue import catalogue_names
+from blockmesh.domain.loading import load_domain
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -40,11 +40,18 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"domains": rows})
         return 0
-    print(f"{'name':<12} {'blocks':>6} {'area':>10}  {'patches':<26} description")
-    for row in rows:
-        patches = ", ".join(row["patches"])
+    # Columns as wide as their longest entry, so that long names do not push the others.
+    patches = [", ".join(row["patches"]) for row in rows]
+    name_width = max([len("name"), *(len(row["name"]) for row in rows)])
+    patch_width = max([len("patches"), *(len(p) for p in patches)])
+    name, patches_title = "name", "patches"
+    print(
+        f"{name:<{name_width}} {'blocks':>6} {'area':>10}  {patches_title:<{patch_width}}  "
+        "description"
+    )
+    for row, listed in zip(rows, patches, strict=True):
         print(
-            f"{row['name']:<12} {row['blocks']:>6} {row['area']:>10.6g}  {patches:<26} "
-            f"{row['description']}"
+            f"{row['name']:<{name_width}} {row['blocks']:>6} {row['area']:>10.6g}  "
+            f"{listed:<{patch_width}}  {row['description']}"
         )
     return 0

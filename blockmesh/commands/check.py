@@ -8,11 +8,20 @@ import warnings
 
 import numpy as np
 
-from ..blockgraph import certificate
-from ..domain import Domain
-from ..errors import BlockMeshError
-from ..mesh import Mesh
-from ._common import add_domain_arguments, print_json, printable, resolve_target
+from blockmesh.commands.common import (
+    add_domain_arguments,
+    json_error,
+    print_json,
+    printable,
+    resolve_target,
+)
+from blockmesh.domain.blockgraph import certificate
+from blockmesh.domain.curve_checks import CHECK_LEVELS
+from blockmesh.domain.domain import Domain
+from blockmesh.errors import BlockMeshError
+from blockmesh.geometry.topology import graph_components
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -37,6 +46,9 @@ def run(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         try:
             target = resolve_target(args)
+            if isinstance(target, PolygonMesh):
+                target.check_geometry()
+                return _report_polygons(target, args, [str(w.message) for w in caught])
             domain = target if isinstance(target, Domain) else domain_of_mesh(target)
         except BlockMeshError as error:
             problems = str(error).splitlines()
@@ -45,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
                     {
                         "domain": name,
                         "valid": False,
-                        "error": type(error).__name__,
+                        **json_error(type(error).__name__, str(error), 1),
                         "problems": [p.strip() for p in problems if p.strip()],
                     }
                 )
@@ -65,11 +77,83 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def polygon_report(mesh: PolygonMesh) -> dict:
+    """What ``blockmesh check`` establishes about a polygon mesh (JSON-ready)."""
+    sizes = mesh.cell_sizes()
+    quality = mesh.quality()
+    edges = mesh.edges()
+    loops = graph_components(mesh.n_points, mesh.boundary_edges[:, 0], mesh.boundary_edges[:, 1])
+    on_boundary = np.unique(mesh.boundary_edges)
+    pieces = int(np.unique(loops[1][on_boundary]).size) if on_boundary.size else 0
+    euler = mesh.n_points - int(edges.shape[0]) + mesh.n_cells
+    return {
+        "domain": mesh.name or "mesh",
+        "valid": True,
+        "kind": "polygons",
+        "level": mesh.level,
+        "cells": mesh.n_cells,
+        "nodes": mesh.n_points,
+        "edges": int(edges.shape[0]),
+        "boundary_edges": int(mesh.boundary_edges.shape[0]),
+        "area": mesh.area,
+        "cells_by_vertices": {int(k): int(v) for k, v in enumerate(np.bincount(sizes)) if v},
+        "hanging_nodes": int(mesh.hanging_nodes().size),
+        "most_hanging_nodes_per_side": int(mesh.side_lengths().max()) - 1,
+        "euler_characteristic": euler,
+        "boundary_loops": pieces,
+        "patches": {
+            name: int(np.count_nonzero(mesh.boundary_patch == k))
+            for k, name in enumerate(mesh.patch_names)
+        },
+        "regions": {
+            name: int(np.count_nonzero(mesh.region == k))
+            for k, name in enumerate(mesh.region_names)
+        },
+        "convex_counter_clockwise": mesh.n_cells - quality.not_strictly_convex,
+        "min_angle": quality.min_angle,
+        "max_angle": quality.max_angle,
+        "max_aspect_ratio": quality.max_aspect_ratio,
+    }
+
+
+def _report_polygons(mesh: PolygonMesh, args: argparse.Namespace, caught: list[str]) -> int:
+    report = polygon_report(mesh)
+    report["warnings"] = caught
+    if args.json:
+        print_json(report)
+        return 0
+    r = report
+    sizes = ", ".join(f"{v:,} with {k}" for k, v in r["cells_by_vertices"].items())
+    print(f"mesh {printable(r['domain'])}: valid (polygon cells, level {r['level']})")
+    print(f"  cells {r['cells']:,} ({sizes} vertices), nodes {r['nodes']:,}, area {r['area']:.12g}")
+    print(
+        f"  edges {r['edges']:,}, boundary edges {r['boundary_edges']:,}; Euler characteristic "
+        f"{r['euler_characteristic']}"
+    )
+    print(
+        f"  hanging nodes {r['hanging_nodes']:,} (at most {r['most_hanging_nodes_per_side']} "
+        "per side)"
+    )
+    for patch, count in r["patches"].items():
+        print(f"    patch {printable(patch)}: {count:,} edges")
+    for region, count in r["regions"].items():
+        print(f"    region {printable(region)}: {count:,} cells")
+    print(
+        f"  convex and counter-clockwise cells {r['convex_counter_clockwise']:,}/{r['cells']:,} "
+        "(hanging nodes are straight vertices)"
+    )
+    print(
+        f"  angles at the corners {r['min_angle']:.2f}° .. {r['max_angle']:.2f}°, max aspect "
+        f"ratio {r['max_aspect_ratio']:.3g}"
+    )
+    for message in caught:
+        print(f"  warning: {message}")
+    return 0
+
+
 def _curves_line(domain: Domain) -> str:
     """What the curve checks established, for the text certificate."""
     from collections import Counter
-
-    from ..curve_checks import CHECK_LEVELS
 
     kinds = Counter(curve.kind for curve in domain.curves.values())
     listed = ", ".join(f"{n} {kind}{'s' if n != 1 else ''}" for kind, n in kinds.items())

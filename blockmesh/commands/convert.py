@@ -8,9 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..domain import Domain
-from ..io import SPLITS, write
-from ._common import check_folders, check_level_options, print_json, printable
+from blockmesh.commands.common import check_folders, check_level_options, print_json, printable
+from blockmesh.domain.domain import Domain
+from blockmesh.errors import ArgumentError
+from blockmesh.io import SPLITS, write
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -59,8 +60,6 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     if output.suffix.lower() == ".toml" and args.format is None:
         if args.level:
-            from ..errors import ArgumentError
-
             raise ArgumentError(
                 "a .toml output holds the blocks themselves; --level applies to mesh outputs"
             )

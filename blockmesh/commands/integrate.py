@@ -9,17 +9,8 @@ from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any
 
-from ..errors import BlockMeshError, BlockMeshWarning, ResourceError
-from ..exact import exact_integral
-from ..mesh import Mesh
-from ..quadrature import (
-    RULES,
-    IntegrationResult,
-    integrate_to_tolerance,
-    integrate_with_estimate,
-)
-from ..refinement import MAX_LEVEL
-from ._common import (
+from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.commands.common import (
     add_domain_arguments,
     check_level_options,
     check_range,
@@ -27,7 +18,17 @@ from ._common import (
     printable,
     resolve_target,
 )
-from ._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.quadrature import (
+    RULES,
+    IntegrationResult,
+    integrate_to_tolerance,
+    integrate_with_estimate,
+)
+from blockmesh.quadrature.exact import exact_integral
+from blockmesh.refinement.pipeline import MAX_LEVEL
 
 __all__ = ["register", "run"]
 
@@ -54,10 +55,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         required=True,
         metavar="EXPR",
         help="f(x, y): numbers, x, y, pi, e, + - * / ^ (or **), and sin cos tan exp log sqrt abs "
-        "... (see blockmesh.expr.FUNCTIONS)",
+        "... (see blockmesh.numerics.expr.FUNCTIONS)",
     )
     parser.add_argument(
         "--level",
+        "-l",
         type=int,
         metavar="L",
         help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
@@ -142,7 +144,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 **limits,
             )
         if check_partition_arguments(args):  # each worker integrates over its partition
-            from ..distributed import integrate_with_estimate as integrate_partitions
+            from blockmesh.distributed import integrate_with_estimate as integrate_partitions
 
             return integrate_partitions(
                 target, args.function, order=_DEFAULT_ORDER if args.order is None else args.order,
@@ -166,7 +168,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
 
 
 def _has_curves(target: Any) -> bool:
-    curves = target.curves if isinstance(target, Mesh) else target.block_mesh().curves
+    curves = target.curves if isinstance(target, Mesh | PolygonMesh) else target.block_mesh().curves
     return curves is not None and len(curves) > 0
 
 
@@ -174,7 +176,7 @@ def _level(args: argparse.Namespace, target: Any) -> int | None:
     """The level asked for; by default 2 for a domain, and a mesh file's own level."""
     if args.level is not None:
         return int(args.level)
-    return None if isinstance(target, Mesh) else _DEFAULT_LEVEL
+    return None if isinstance(target, Mesh | PolygonMesh) else _DEFAULT_LEVEL
 
 
 def run(args: argparse.Namespace) -> int:
@@ -222,8 +224,9 @@ def run(args: argparse.Namespace) -> int:
             )  # fmt: skip
         elif args.exact_geometry:
             print(
-                "  geometry        straight: no curved edges here (a mesh read from a file "
-                "keeps its nodes on the curves but not the curves)"
+                "  geometry        straight: no curved edges here (a .msh, .vtk, .mat or OpenFOAM "
+                "file keeps the nodes on the curves but not the curves; .npz, .xdmf and .vtu "
+                "keep them)"
             )
         if exact is not None and exact_error is not None:
             if isinstance(exact, Fraction):

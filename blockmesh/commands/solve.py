@@ -4,7 +4,11 @@
 ``--reaction``); ``--equation elasticity`` plane linear elasticity (``--young``,
 ``--poisson-ratio``, ``--plane``; vector data as ``"EXPR_X, EXPR_Y"``). ``--dirichlet PATCH=EXPR``
 prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` the outward flux
-(the traction); other patches are natural (zero flux, traction-free).
+(the traction); other patches are natural (zero flux, traction-free). PATCH may be a comma list
+of patches, or ``*``: every patch the other options do not name.
+
+``--adapt`` solves adaptively instead (:mod:`blockmesh.commands.solve_adaptive`): estimate,
+mark, refine the marked cells locally, repeat until ``--tol`` or ``--max-unknowns``.
 """
 
 from __future__ import annotations
@@ -16,19 +20,25 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import BlockMeshError, SolverError
-from ..improve import QUALITY_RULES, refine_with_rule
-from ..vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
-from ..vem.fields import split_pair
-from ..vem.output import SOLUTION_FORMATS
-from ._common import (
+from blockmesh._system.memory import available_memory, process_rss
+from blockmesh.commands.common import (
     add_domain_arguments,
     check_folders,
     check_level_options,
+    levels_to_add,
+    parse_size,
     print_json,
     printable,
-    resolve_domain,
+    resolve_target,
 )
+from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
+from blockmesh.errors import BlockMeshError, SolverError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.sizes import MemoryPrediction, check_fits, solve_command_predictor
+from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
+from blockmesh.vem.fields import scalar_field, split_pair
+from blockmesh.vem.output import SOLUTION_FORMATS, write_solution
 
 __all__ = ["register", "run"]
 
@@ -45,19 +55,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="solve a Poisson or elasticity problem on the mesh (virtual elements)",
         description="Solve a diffusion-reaction (Poisson) or plane elasticity problem on "
         "DOMAIN's pentagon mesh at LEVEL with lowest-order virtual elements; report unknowns, "
-        "cost and, with --exact, the errors; write the solution for ParaView.",
+        "cost and, with --exact, the errors; write the solution for ParaView. DOMAIN may be a "
+        "mesh file: the problem is solved on the mesh read, refined further by --level if given. "
+        "The memory the solve needs (the direct solver's factorisation above all) is predicted "
+        "first: a problem that does not fit is refused, naming the largest level that does.",
         epilog='example: blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
-        "--dirichlet left=0 --dirichlet right=0 --dirichlet top=0 --dirichlet bottom=0 "
-        '--exact "sin(pi*x)*sin(pi*y)"',
+        "--dirichlet '*=0' --exact \"sin(pi*x)*sin(pi*y)\"",
     )
     add_domain_arguments(parser)
     parser.add_argument(
         "--level",
         "-l",
         type=int,
-        default=DEFAULT_LEVEL,
         metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL})",
+        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+        "a mesh file is solved on at its own level, refined further by --level if given; with "
+        "--adapt the starting level, default 0)",
     )
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
@@ -70,14 +83,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="append",
         default=[],
         metavar="PATCH=EXPR",
-        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be 'free'",
+        help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be "
+        "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every patch no "
+        "other --dirichlet or --neumann names)",
     )
     parser.add_argument(
         "--neumann",
         action="append",
         default=[],
         metavar="PATCH=EXPR",
-        help="outward flux kappa du/dn on PATCH (repeatable); elasticity: the traction 'TX, TY'",
+        help="outward flux kappa du/dn on PATCH (repeatable); elasticity: the traction 'TX, TY'. "
+        "PATCH as for --dirichlet (a comma list, or *)",
     )
     parser.add_argument(
         "--exact", metavar="EXPR", help="exact solution ('UX, UY' for elasticity): report errors"
@@ -117,30 +133,88 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--stabilization-scale", type=float, default=1.0, metavar="A", help="its factor (1)"
     )
-    parser.add_argument("--solver", choices=SOLVERS, default="direct", help="linear solver")
+    parser.add_argument(
+        "--solver",
+        choices=SOLVERS,
+        default="direct",
+        help="linear solver: direct (sparse LU; its memory grows as n log n) or amg (algebraic "
+        "multigrid, for large problems; needs pyamg)",
+    )
+    parser.add_argument(
+        "--max-memory",
+        type=parse_size,
+        metavar="SIZE",
+        help="refuse problems predicted to need more memory (e.g. 4G; default: what is available)",
+    )
     parser.add_argument(
         "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
     )
     parser.add_argument("--plot", metavar="PNG", help="draw the solution")
+    add_adaptive_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run)
 
 
-def _patch_values(items: list[str], flag: str, seen: dict[str, str]) -> dict[str, str]:
-    values: dict[str, str] = {}
-    for item in items:
-        patch, sign, expression = item.partition("=")
-        patch, expression = patch.strip(), expression.strip()
-        if not sign or not patch or not expression:
-            raise BlockMeshError(f"{flag} {item!r}: write PATCH=EXPR, e.g. {flag} left=0")
-        if patch in seen:
-            raise BlockMeshError(
-                f"patch {patch!r} is given twice ({seen[patch]} and {flag} {item}); give each "
-                "patch one condition"
-            )
-        seen[patch] = f"{flag} {item}"
-        values[patch] = expression
-    return values
+#: One ``--dirichlet`` or ``--neumann`` option: (flag, the option's text, patches, expression);
+#: patches is ``"*"`` or the names as written.
+Condition = tuple[str, str, str | list[str], str]
+
+
+def _conditions(args: argparse.Namespace) -> list[Condition]:
+    """The boundary-condition options, their syntax checked (the patches are checked later)."""
+    found: list[Condition] = []
+    for flag, items in (("--dirichlet", args.dirichlet), ("--neumann", args.neumann)):
+        for item in items:
+            patch, sign, expression = item.partition("=")
+            patch, expression = patch.strip(), expression.strip()
+            if not sign or not patch or not expression:
+                raise BlockMeshError(
+                    f"{flag} {item!r}: write PATCH=EXPR, e.g. {flag} left=0 (or "
+                    f"{flag} 'left,right=0', or {flag} '*=0' for every other patch)"
+                )
+            found.append((flag, item, patch, expression))
+    return found
+
+
+def _patch_values(
+    conditions: list[Condition], patch_names: tuple[str, ...]
+) -> tuple[dict[str, str], dict[str, str]]:
+    """The Dirichlet and Neumann values by patch: lists split, ``*`` given the patches left.
+
+    A name that is a patch of the mesh is taken whole (commas and all); otherwise a comma list.
+    """
+    values: dict[str, dict[str, str]] = {"--dirichlet": {}, "--neumann": {}}
+    seen: dict[str, str] = {}
+    star: Condition | None = None
+    for flag, item, patch, expression in conditions:
+        if patch == "*":
+            if star is not None:
+                raise BlockMeshError(
+                    f"'*' is given twice ({star[0]} {star[1]} and {flag} {item}); '*' stands for "
+                    "every patch the other options do not name, once"
+                )
+            star = (flag, item, patch, expression)
+            continue
+        names = [patch] if patch in patch_names else [n.strip() for n in str(patch).split(",")]
+        for name in names:
+            if not name:
+                raise BlockMeshError(f"{flag} {item!r}: an empty patch name in the list")
+            if name not in patch_names:
+                raise BlockMeshError(
+                    f"{flag} {item!r}: no patch {name!r}; the patches are {', '.join(patch_names)}"
+                )
+            if name in seen:
+                raise BlockMeshError(
+                    f"patch {name!r} is given twice ({seen[name]} and {flag} {item}); give "
+                    "each patch one condition"
+                )
+            seen[name] = f"{flag} {item}"
+            values[flag][name] = expression
+    if star is not None:
+        for name in patch_names:
+            if name not in seen:
+                values[star[0]][name] = star[3]
+    return values["--dirichlet"], values["--neumann"]
 
 
 def _check(args: argparse.Namespace) -> None:
@@ -159,6 +233,7 @@ def _check(args: argparse.Namespace) -> None:
         raise BlockMeshError(
             "--stabilization identity is for poisson; elasticity takes trace or diagonal"
         )
+    check_adaptive(args)
     check_folders(args.output, args.plot)
 
 
@@ -186,16 +261,14 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
         young=args.young,
         poisson=args.poisson_ratio,
         plane=args.plane,
-        body_force=args.source or "0, 0",
-        displacement=dirichlet,
-        traction=neumann,
+        source=args.source or "0, 0",
+        dirichlet=dirichlet,
+        neumann=neumann,
         **common,
     )
 
 
 def _nodal_error(solution, exact: str, equation: str) -> np.ndarray:
-    from ..vem.fields import scalar_field
-
     x, y = solution.mesh.points.T
     if equation == "poisson":
         return solution.values - scalar_field(exact, "exact solution")(x, y)
@@ -204,15 +277,44 @@ def _nodal_error(solution, exact: str, equation: str) -> np.ndarray:
     return np.column_stack([solution.displacement - u, np.zeros(x.size)])
 
 
+def _check_memory(target, steps: int, args: argparse.Namespace) -> MemoryPrediction:
+    """The predicted peak of the whole solve; ResourceError before anything big is allocated."""
+    predict = solve_command_predictor(
+        target,
+        equation=args.equation,
+        solver=args.solver,
+        smooth=args.smooth,
+        plot=bool(args.plot),
+    )
+    given = args.max_memory
+    return check_fits(
+        predict,
+        steps,
+        given if given is not None else available_memory() + process_rss(),
+        what=target.name or "the mesh",
+        offset=target.level if isinstance(target, Mesh) else 0,
+        source="--max-memory" if given is not None else "the memory available now",
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh solve`` with the parsed ``args``; returns the exit code."""
     _check(args)
-    seen: dict[str, str] = {}
-    dirichlet = _patch_values(args.dirichlet, "--dirichlet", seen)
-    neumann = _patch_values(args.neumann, "--neumann", seen)
-    domain = resolve_domain(args)
+    conditions = _conditions(args)
+    domain = resolve_target(args)
+    dirichlet, neumann = _patch_values(conditions, domain.patch_names)
+    if args.adapt:
+        start = levels_to_add(args.level, domain, 0)
+        mesh = refine_with_rule(
+            domain, start, rule=args.quality_rule, smooth=args.smooth, max_memory=args.max_memory
+        )
+        return run_adaptive(args, mesh, lambda m: _solve(args, m, dirichlet, neumann))
+    steps = levels_to_add(args.level, domain, DEFAULT_LEVEL)
+    prediction = _check_memory(domain, steps, args)
     started = time.perf_counter()
-    mesh = refine_with_rule(domain, args.level, rule=args.quality_rule, smooth=args.smooth)
+    mesh = refine_with_rule(
+        domain, steps, rule=args.quality_rule, smooth=args.smooth, max_memory=args.max_memory
+    )
     try:
         solution = _solve(args, mesh, dirichlet, neumann)
     except SolverError as error:  # the library names its keyword; here the flag is meant
@@ -233,6 +335,7 @@ def run(args: argparse.Namespace) -> int:
         "residual": info.residual,
         "seconds": seconds,
         "solve_seconds": info.seconds,
+        "predicted_peak_bytes": prediction.peak_bytes,
     }
     if args.equation == "poisson":
         report["u_min"] = float(solution.values.min())
@@ -246,11 +349,9 @@ def run(args: argparse.Namespace) -> int:
         report.update(errors.as_dict())
         extra["error"] = _nodal_error(solution, args.exact, args.equation)
     if args.output:
-        from ..vem.output import write_solution
-
         report["output"] = str(write_solution(solution, args.output, extra_point_data=extra))
     if args.plot:
-        from ..vem.plot import plot_solution
+        from blockmesh.vem.plot import plot_solution
 
         report["plot"] = str(plot_solution(solution, args.plot))
     if args.json:

@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..atomic import atomic_file
-from ..plot_tables import plot_convergence
-from ..quadrature import RULES
-from ..tables import PENTAGONS, TABLES, compute_table, format_table, write_csv
-from ._common import check_folders, printable
+from blockmesh._system.atomic import atomic_file
+from blockmesh.commands.common import check_folders, printable
+from blockmesh.quadrature import RULES
+from blockmesh.tables import PENTAGONS, TABLES, compute_table, format_table, write_csv
+from blockmesh.tables.plot import plot_convergence
 
 __all__ = ["register", "run"]
 

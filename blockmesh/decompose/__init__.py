@@ -17,9 +17,9 @@ Examples
 ('triangle-template', (9, 5))
 """
 
-from .convex import Decomposition, decompose_convex_polygon
-from .pieces import PiecePentagons, pentagons_from_pieces
-from .polygon import decompose_polygon
+from blockmesh.decompose.convex import Decomposition, decompose_convex_polygon
+from blockmesh.decompose.pieces import PiecePentagons, pentagons_from_pieces
+from blockmesh.decompose.polygon import decompose_polygon
 
 __all__ = [
     "Decomposition",

@@ -26,9 +26,11 @@ Examples
 ...     np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [2, 1]], dtype=float),
 ...     [("quad", np.array([[0, 1, 2, 3]])), ("triangle", np.array([[1, 4, 5], [1, 5, 2]]))],
 ... )
->>> domain = convert_mesh(square, name="mixed")
->>> domain.n_blocks, domain.layout, sorted(set(domain.block_source.tolist()))
+>>> spec = convert_elements(read_element_mesh(square))
+>>> len(spec.blocks), spec.layout, sorted(set(spec.block_source.tolist()))
 (30, 'conversion', [0, 1, 2])
+
+:meth:`blockmesh.Domain.from_mesh` makes the Domain of it.
 """
 
 from __future__ import annotations
@@ -37,22 +39,38 @@ import itertools
 import os
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..errors import (
+from blockmesh import io as blockmesh_io
+from blockmesh._moved import removed_names
+from blockmesh._system.bounded import check_regular
+from blockmesh.decompose.optimise import WorstAngle
+from blockmesh.decompose.pieces import pentagons_from_pieces
+from blockmesh.decompose.triangulate import constrained_delaunay
+from blockmesh.errors import (
     BlockMeshError,
     BlockMeshWarning,
     DomainError,
     DomainFormatError,
     ResourceError,
 )
-from ..geometry import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
-from .optimise import improve_angles
-from .pieces import pentagons_from_pieces
+from blockmesh.geometry.polygons import (
+    COLLINEAR_SIN_TOL,
+    MAX_COORDINATE,
+    corner_sines,
+    local_frame,
+    signed_area,
+)
+from blockmesh.io.sandbox import read_with_meshio
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.placement import Freedom
 
-__all__ = ["convert_mesh", "read_element_mesh"]
+__all__ = ["BlockSpec", "convert_elements", "read_element_mesh"]
+
+#: Names this module had, now elsewhere (release 0.1: ``convert_mesh``).
+__getattr__ = removed_names(__name__)
 
 _TWO_D = {"triangle": 3, "quad": 4, "triangle6": 3, "triangle7": 3, "quad8": 4, "quad9": 4}
 _LINES = {"line": 2, "line3": 2}
@@ -83,14 +101,9 @@ def read_element_mesh(source: Any) -> Any:
     """
     import meshio
 
-    from ..mesh import Mesh
-
     if isinstance(source, meshio.Mesh | Mesh):
         return source
     path = Path(source)
-    from .. import io as blockmesh_io
-    from ..bounded import check_regular
-    from ..io.sandbox import read_with_meshio
 
     if not os.path.lexists(path):
         raise DomainFormatError(f"{path}: no such file")
@@ -159,35 +172,33 @@ def _read_with_gmsh(path: Path) -> Any:
             gmsh.finalize()
 
 
-def convert_mesh(source: Any, *, name: str | None = None, description: str = "") -> Any:
-    """The Domain of an existing mesh (see the module notes); ``source`` a path or a mesh.
+class BlockSpec(NamedTuple):
+    """A converted mesh as the arguments of :meth:`blockmesh.Domain.from_blocks`."""
 
-    Returns
-    -------
-    Domain
-        Layout ``"mesh"`` when the elements are the blocks (all strictly convex pentagons),
-        ``"conversion"`` when they went through the templates.
+    vertices: np.ndarray
+    blocks: np.ndarray
+    patches: dict[str, Any]
+    regions: dict[str, Any]
+    layout: str
+    block_source: np.ndarray
+
+
+def convert_elements(mesh: Any) -> BlockSpec:
+    """The pentagonal blocks of a mesh read by :func:`read_element_mesh` (see the module notes).
+
+    Layout ``"mesh"`` when the elements are the blocks (all strictly convex pentagons, or a
+    blockmesh Mesh read back, its patches and regions kept), ``"conversion"`` when they went
+    through the templates.
     """
-    from ..domain import Domain
-    from ..mesh import Mesh
-
-    mesh = read_element_mesh(source)
-    label = str(source) if isinstance(source, str | Path) else "the mesh"
-    default_name = Path(source).stem if isinstance(source, str | Path) else "mesh"
-    try:
-        if isinstance(mesh, Mesh):
-            return _from_pentagon_mesh(mesh, name or default_name, description)
-        elements = _elements_of(mesh)
-        _check_elements(elements)
-        return _convert(elements, name or default_name, description, Domain)
-    except DomainError as error:
-        raise type(error)(f"{label}: {error}") from None
+    if isinstance(mesh, Mesh):
+        return _from_pentagon_mesh(mesh)
+    elements = _elements_of(mesh)
+    _check_elements(elements)
+    return _convert(elements)
 
 
-def _from_pentagon_mesh(mesh: Any, name: str, description: str) -> Any:
+def _from_pentagon_mesh(mesh: Mesh) -> BlockSpec:
     """A blockmesh Mesh read back: its cells are the blocks, its patches and regions kept."""
-    from ..domain import Domain
-
     patches = {
         patch: mesh.boundary_edges[mesh.boundary_patch == k].tolist()
         for k, patch in enumerate(mesh.patch_names)
@@ -196,15 +207,13 @@ def _from_pentagon_mesh(mesh: Any, name: str, description: str) -> Any:
         region: np.flatnonzero(mesh.region == k).tolist()
         for k, region in enumerate(mesh.region_names)
     }
-    return Domain.from_blocks(
+    return BlockSpec(
         mesh.points,
         mesh.cells,
         {k: v for k, v in patches.items() if v},
         {k: v for k, v in regions.items() if v},
-        name=name,
-        description=description,
-        layout="mesh",
-        block_source=np.arange(mesh.n_cells),
+        "mesh",
+        np.arange(mesh.n_cells),
     )
 
 
@@ -221,8 +230,6 @@ def _elements_of(mesh: Any) -> _Elements:
     points = np.asarray(mesh.points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] not in (2, 3) or points.shape[0] == 0:
         raise DomainFormatError(f"the mesh's points must be (n, 2) or (n, 3), got {points.shape}")
-    from ..validate import MAX_COORDINATE
-
     fine = np.all(np.abs(points) <= MAX_COORDINATE, axis=1)  # NaN fails too
     if not fine.all():
         bad = int(np.flatnonzero(~fine)[0])
@@ -373,7 +380,7 @@ def _check_conforming(e: _Elements, local: np.ndarray) -> None:
         )
 
 
-def _convert(e: _Elements, name: str, description: str, domain_type: Any) -> Any:
+def _convert(e: _Elements) -> BlockSpec:
     """Pieces to pentagons (or the pentagons as blocks), patches, regions, sources."""
     used = np.unique(np.concatenate(e.elements))
     renumber = np.full(e.points.shape[0], -1, dtype=np.int64)
@@ -394,9 +401,9 @@ def _convert(e: _Elements, name: str, description: str, domain_type: Any) -> Any
     ]
     if all(len(p) == 5 for p in pieces) and len(pieces) == len(e.elements):
         blocks = np.array(pieces, dtype=np.int64)
-        return domain_type.from_blocks(
-            points, blocks, _patches_direct(lines, blocks), _element_sets(e), name=name,
-            description=description, layout="mesh", block_source=np.array(source),
+        return BlockSpec(
+            points, blocks, _patches_direct(lines, blocks), _element_sets(e), "mesh",
+            np.array(source),
         )  # fmt: skip
     groups: dict[int, list[int]] = {}
     for i, piece in enumerate(pieces):
@@ -413,10 +420,7 @@ def _convert(e: _Elements, name: str, description: str, domain_type: Any) -> Any
     }
     patches = _patches_templated(lines, result, pieces)
     nodes = _improved(result, pieces, points)
-    return domain_type.from_blocks(
-        nodes, result.blocks, patches, block_regions, name=name,
-        description=description, layout="conversion", block_source=block_source,
-    )  # fmt: skip
+    return BlockSpec(nodes, result.blocks, patches, block_regions, "conversion", block_source)
 
 
 def _improved(result: Any, pieces: list[np.ndarray], points: np.ndarray) -> np.ndarray:
@@ -433,7 +437,7 @@ def _improved(result: Any, pieces: list[np.ndarray], points: np.ndarray) -> np.n
         chain = result.side_chain(a, b)
         d = local[b] - local[a]
         slide[chain[1:3]] = d / np.hypot(*d)
-    moved = frame.to_global(improve_angles(local, result.blocks, fixed, slide=slide))
+    moved = frame.to_global(WorstAngle().place(local, result.blocks, Freedom(fixed, slide)))
     moved[: points.shape[0]] = points
     return moved
 
@@ -445,7 +449,7 @@ def _convex_parts(local: np.ndarray, corners: np.ndarray) -> list[np.ndarray]:
     import shapely
 
     polygon = shapely.Polygon(local[corners])
-    parts = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
+    parts = shapely.get_parts(constrained_delaunay(polygon))
     ids = {tuple(p): k for p, k in zip(local[corners].tolist(), corners.tolist(), strict=True)}
     out = []
     for tri in parts:

@@ -33,69 +33,35 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
+from functools import lru_cache, partial
 from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import DomainError
-from ..geometry import (
+from blockmesh.decompose.decomposition import Decomposition, in_local_frame
+from blockmesh.decompose.templates import (
+    SQUARE_FACES,
+    TRIANGLE_FACES,
+    TRIANGLE_WEIGHTS,
+    square_weights,
+)
+from blockmesh.decompose.triangulate import DEFAULT_MIN_ANGLE
+from blockmesh.decompose.triangulated import triangulated_decomposition
+from blockmesh.errors import DomainError
+from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,
     interior_angles,
     is_strictly_convex,
     polygon_diameter,
 )
-from .templates import SQUARE_FACES, TRIANGLE_FACES, TRIANGLE_WEIGHTS, square_weights
 
 __all__ = ["Decomposition", "decompose_convex_polygon"]
 
 #: Corners beyond which the exact chord programme (O(n^5)) is not used (see decompose_polygon).
-_CHORD_LIMIT = 16
+CHORD_LIMIT = 16
 #: Points closer than this times the polygon's diameter count as the same point (as in domain
 #: validation); an edge that short breaks the input contract.
 _SAME_POINT = 1e-11
-
-
-@dataclass(frozen=True)
-class Decomposition:
-    """A convex polygon split into strictly convex pentagons that meet edge to edge.
-
-    Attributes
-    ----------
-    vertices : ndarray, shape (K, 2), float64, read-only
-        Rows ``0..n-1`` are the polygon's vertices, bit for bit and in order; then the new points
-        (used edge midpoints, the hub, template nodes).
-    blocks : ndarray, shape (B, 5), int64, read-only
-        Each row a counter-clockwise, strictly convex pentagon of vertex ids.
-    edge_chains : tuple of ndarray
-        ``edge_chains[i]`` lists the vertex ids along polygon edge ``i``, from vertex ``i`` to
-        vertex ``(i + 1) % n`` inclusive, in order.
-    layout : str
-        ``"pentagon"``, ``"chords"``, ``"star"``, ``"triangle-template"`` or ``"quad-template"``
-        for a convex polygon's exact layouts; ``"triangulation"`` for the general route of
-        :func:`blockmesh.decompose.decompose_polygon`.
-    min_angle, max_angle : float
-        Smallest and largest interior angle over all blocks, in degrees.
-    hole_chains : tuple of tuple of ndarray
-        ``hole_chains[k][i]``: the vertex ids along edge ``i`` of hole ``k``, as ``edge_chains``
-        (empty for a polygon without holes).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> d = decompose_convex_polygon(np.array([[0, 0], [1, 0], [0, 1]], dtype=float))
-    >>> d.layout, d.blocks.shape, d.edge_chains[0].tolist()
-    ('triangle-template', (9, 5), [0, 3, 4, 1])
-    """
-
-    vertices: np.ndarray
-    blocks: np.ndarray
-    edge_chains: tuple[np.ndarray, ...]
-    layout: str
-    min_angle: float
-    max_angle: float
-    hole_chains: tuple[tuple[np.ndarray, ...], ...] = ()
 
 
 def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
@@ -149,11 +115,9 @@ def decompose_convex_polygon(polygon: np.ndarray) -> Decomposition:
     """
     p = _checked_polygon(polygon)
     n = len(p)
-    if n > _CHORD_LIMIT:
+    if n > CHORD_LIMIT:
         # The chord programme is O(n^5): beyond its limit the quality triangulation takes over.
-        from .polygon import decompose_polygon
-
-        return decompose_polygon([p])
+        return in_local_frame([p], partial(triangulated_decomposition, min_angle=DEFAULT_MIN_ANGLE))
     if n == 3:
         layout = _template_layout(p, TRIANGLE_WEIGHTS, TRIANGLE_FACES, "triangle-template")
     elif n == 4:

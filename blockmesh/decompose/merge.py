@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import corner_sines, interior_angles
-from ..topology import cell_neighbours
+from blockmesh.geometry.polygons import corner_sines, interior_angles
+from blockmesh.geometry.topology import cell_neighbours
 
 __all__ = ["pair_triangles"]
 

@@ -30,11 +30,15 @@ True
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import ClassVar
+
 import numpy as np
 
-from ..geometry import COLLINEAR_SIN_TOL
+from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
+from blockmesh.refinement.placement import Freedom, Placement
 
-__all__ = ["improve_angles", "worst_score"]
+__all__ = ["WorstAngle", "improve_angles", "worst_score"]
 
 #: Weight of flat corners against sharp ones in the score (``min(theta, 1.5 (180 - theta))``).
 _FLAT_WEIGHT = 1.5
@@ -159,6 +163,39 @@ def improve_angles(
         if not active.any():
             break
     return points
+
+
+@dataclass(frozen=True)
+class WorstAngle(Placement):
+    """The decomposition's optimiser as a node placement: :func:`improve_angles` on every node.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from blockmesh.decompose.templates import ring_hub_faces, ring_hub_nodes
+    >>> quad = np.array([[0, 0], [3, 0], [3, 1], [0, 1]], dtype=float)
+    >>> nodes, faces = ring_hub_nodes(quad[None])[0], ring_hub_faces(4)
+    >>> fixed = np.arange(len(nodes)) < 12
+    >>> moved = WorstAngle().place(nodes, faces, Freedom(fixed, np.zeros_like(nodes)))
+    >>> bool(worst_score(moved, faces) > worst_score(nodes, faces) + 5)
+    True
+    """
+
+    target: float = 38.0
+    sweeps: int = 5
+    name: ClassVar[str] = "worst-angle"
+    nested: ClassVar[bool] = False
+
+    def place(self, points: np.ndarray, cells: np.ndarray, freedom: Freedom) -> np.ndarray:
+        """New positions with a better worst angle around every node that moved."""
+        return improve_angles(
+            points,
+            cells,
+            freedom.fixed,
+            slide=freedom.slide,
+            target=self.target,
+            sweeps=self.sweeps,
+        )
 
 
 def _sweep_set(

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .templates import EDGE_FRACTIONS, ring_hub_faces, ring_hub_nodes
+from blockmesh.decompose.templates import EDGE_FRACTIONS, ring_hub_faces, ring_hub_nodes
 
 __all__ = ["PiecePentagons", "pentagons_from_pieces"]
 

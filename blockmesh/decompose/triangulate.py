@@ -34,8 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ..errors import DomainError
-from ..geometry import interior_angles
+from blockmesh.errors import DomainError, ResourceError
+from blockmesh.geometry.polygons import interior_angles
 
 __all__ = ["Triangulation", "triangulate"]
 
@@ -85,7 +85,7 @@ def triangulate(
     rings : sequence of ndarray (n_r, 2)
         The outer ring first, counter-clockwise, then the holes, clockwise (the domain on the left
         of every edge); simple, disjoint and nested as validated by
-        :func:`blockmesh.validate.check_rings`.
+        :func:`blockmesh.domain.validate.check_rings`.
     min_angle : float
         Target smallest angle in degrees (at most 33; 0 skips the refinement).
     max_points : int, optional
@@ -117,10 +117,31 @@ def triangulate(
     return refiner.result()
 
 
+def constrained_delaunay(polygon: shapely.Polygon) -> shapely.GeometryCollection:
+    """GEOS's constrained Delaunay triangles of ``polygon`` (shapely >= 2.1).
+
+    With an older shapely, which lacks :func:`shapely.constrained_delaunay_triangles`, a
+    :class:`~blockmesh.errors.ResourceError` names the version needed and the one installed.
+
+    Examples
+    --------
+    >>> len(shapely.get_parts(constrained_delaunay(shapely.box(0, 0, 1, 1))))
+    2
+    """
+    try:
+        triangles = shapely.constrained_delaunay_triangles
+    except AttributeError:
+        raise ResourceError(
+            "decomposing a polygon needs shapely >= 2.1 (its constrained_delaunay_triangles); "
+            f"this is shapely {shapely.__version__}: pip install 'shapely>=2.1'"
+        ) from None
+    return triangles(polygon)
+
+
 def _constrained_triangles(rings: Sequence[np.ndarray], points: np.ndarray) -> np.ndarray:
     """GEOS's constrained Delaunay triangles as counter-clockwise vertex-id triples."""
     polygon = shapely.Polygon(rings[0], list(rings[1:]))
-    collection = shapely.constrained_delaunay_triangles(polygon)
+    collection = constrained_delaunay(polygon)
     parts = shapely.get_parts(collection)
     coords = shapely.get_coordinates(parts).reshape(len(parts), 4, 2)[:, :3]
     ids = {(float(x), float(y)): k for k, (x, y) in enumerate(points.tolist())}

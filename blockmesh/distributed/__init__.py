@@ -10,7 +10,7 @@ and checksums. Nothing gathers the mesh on the client.
 - :func:`refine_to` writes ``out.pvtu`` (ParaView's parallel VTU, with ``GlobalNodeIds`` and
   ghost marks) or ``out.xdmf`` (an XDMF spatial collection of HDF5 pieces), pieces in
   ``out.pvtu.pieces/<8 hex digits>/`` (or ``out.xdmf.pieces/...``): a folder of their own at
-  every write, committed with the index (:func:`blockmesh.atomic.atomic_with_folder`);
+  every write, committed with the index (:func:`blockmesh._system.atomic.atomic_with_folder`);
 - :func:`integrate` and :func:`integrate_with_estimate` sum the integrals of the partitions;
 - :func:`gather` reads a partitioned mesh back into one :class:`~blockmesh.mesh.Mesh` (for meshes
   that fit): it equals the serial :func:`blockmesh.refine` result array for array, bit for bit.
@@ -49,12 +49,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..atomic import atomic_with_folder, check_target
-from ..checks import whole_number
-from ..errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
-from ..mesh import Mesh, MeshQuality
-from ..template import node_count
-from .files import (
+from blockmesh._system.atomic import atomic_with_folder, check_target
+from blockmesh._system.bounded import reading
+from blockmesh._system.memory import available_memory, format_bytes, format_count
+from blockmesh.checks import renamed_keywords, whole_number
+from blockmesh.distributed.files import (
     INDEX_SUFFIXES,
     piece_name,
     pieces_dir,
@@ -63,12 +62,16 @@ from .files import (
     write_pvtu_index,
     write_xdmf_index,
 )
-from .partition import MAX_PARTITIONS, Partitioning, partition
-from .pieces import piece_node_count
-from .tasks import integrate_piece_task, write_piece_task
+from blockmesh.distributed.partition import MAX_PARTITIONS, Partitioning, partition
+from blockmesh.distributed.pieces import piece_node_count
+from blockmesh.distributed.tasks import integrate_piece_task, write_piece_task
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
+from blockmesh.mesh.mesh import Mesh, MeshQuality
+from blockmesh.quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
+from blockmesh.refinement.template import node_count
 
 if TYPE_CHECKING:
-    from ..domain import Domain
+    from blockmesh.domain.domain import Domain
 
 __all__ = [
     "MAX_PARTITIONS",
@@ -110,8 +113,6 @@ def max_workers() -> int:
     >>> max_workers() >= 1
     True
     """
-    from ..refinement import available_memory
-
     return max(1, min(WORKERS_PER_CORE * _cores(), available_memory() // WORKER_BASE_BYTES))
 
 
@@ -352,8 +353,6 @@ def _reachable(address: str) -> str:
 
 def _check_local(workers: int | None, memory_limit: int | str | None) -> int:
     """The number of local workers, checked with their memory limit against the machine."""
-    from ..refinement import available_memory, format_bytes
-
     most = max_workers()
     if workers is None:
         n = min(_cores(), most)
@@ -414,7 +413,6 @@ def _check_workers(parts: Partitioning, client: Any) -> None:
     if not limits:
         return
     limit = min(limits)
-    from ..refinement import format_bytes
 
     needs = [predict_task_bytes(parts, p) for p in range(parts.n_partitions)]
     worst = int(np.argmax(needs))
@@ -584,9 +582,10 @@ def refine_to(
     )
 
 
+@renamed_keywords(function="f")
 def integrate_with_estimate(
     target: Domain | Mesh,
-    function: Any,
+    f: Any,
     *,
     order: int,
     level: int | None = None,
@@ -606,8 +605,10 @@ def integrate_with_estimate(
     client adds the values (``math.fsum``: the serial value to round-off) and the error
     estimates, and the result has converged when every partition's has. ``level`` is as for
     :func:`blockmesh.integrate`: a Domain's refinement level, or for a Mesh the level to reach
-    (above its own). ``function`` must be picklable: an expression string, or a function defined
-    at module level. ``max_points`` bounds the evaluations of the whole integral.
+    (above its own). ``f`` is the integrand as for :func:`blockmesh.integrate` and must be
+    picklable: an expression string, or a function defined at module level (``function=``, its
+    former name, still works with a :class:`DeprecationWarning`). ``max_points`` bounds the
+    evaluations of the whole integral.
     ``exact_geometry`` integrates over the true curved cells, as :func:`blockmesh.integrate`
     does (every piece carries its curved edges).
 
@@ -615,9 +616,6 @@ def integrate_with_estimate(
     -------
     IntegrationResult
     """
-    from ..quadrature import DEFAULT_MAX_POINTS, IntegrationResult, rule_info
-    from ..refinement import format_count
-
     if level is None:
         steps = 0
     elif isinstance(target, Mesh):
@@ -644,7 +642,7 @@ def integrate_with_estimate(
                 integrate_piece_task,
                 scattered,
                 p,
-                function,
+                f,
                 order,
                 rule,
                 budget,
@@ -677,17 +675,20 @@ def integrate_with_estimate(
     )
 
 
-def integrate(target: Domain | Mesh, function: Any, **options: Any) -> float:
+@renamed_keywords(function="f")
+def integrate(target: Domain | Mesh, f: Any, **options: Any) -> float:
     """The value of :func:`integrate_with_estimate` (same options): a float.
+
+    ``f`` as for :func:`blockmesh.integrate` (``function=`` is its deprecated name).
 
     Examples
     --------
     >>> import blockmesh, blockmesh.distributed as bd
-    >>> bd.integrate(blockmesh.load_domain("sp"), "1", order=1, level=2,
+    >>> bd.integrate(blockmesh.load_domain("sp"), f="1", order=1, level=2,
     ...              partitions=3, workers=1)  # doctest: +SKIP
     5.0
     """
-    return integrate_with_estimate(target, function, **options).value
+    return integrate_with_estimate(target, f, **options).value
 
 
 def gather(path: str | os.PathLike[str]) -> Mesh:
@@ -697,8 +698,6 @@ def gather(path: str | os.PathLike[str]) -> Mesh:
     order and their boundary edges to their places in the whole boundary list: the result equals
     the serial refinement's Mesh. Needs the whole mesh's memory, so it is for meshes that fit.
     """
-    from ..bounded import reading
-
     with reading(path) as guard:
         pieces = [read_piece(source) for source in read_pieces(Path(path))]
         if not pieces:

@@ -10,7 +10,7 @@ Layout, for an index ``out.pvtu`` (or ``out.xdmf``)::
 
 **VTU pieces** are VTK XML unstructured grids with raw appended binary data (``header_type
 UInt64``, little endian), written array by array in bounded chunks: polygon cells followed by the
-piece's boundary edges as line cells, the cell data of :mod:`blockmesh.io.vtu` (``block_id``,
+piece's boundary edges as line cells, the cell data of :mod:`blockmesh.io.vtu.format` (``block_id``,
 ``region``, ``parent``, ``patch``; -1 where they do not apply) plus ``boundary_order`` (the
 position of a line in the whole mesh's boundary list), and the point data ``GlobalNodeIds``
 (Int64, the node's id in the whole mesh) and ``vtkGhostType`` (UInt8, 1 = a duplicate of a node
@@ -23,7 +23,7 @@ merges the pieces seamlessly.
 one polygon grid and one polyline grid per piece.
 
 Every piece and the index carry a JSON attribute ``blockmesh``: the names, level and mesh name
-(as :func:`blockmesh.io._common.encode_metadata`), and the piece's place in the whole.
+(as :func:`blockmesh.io.common.encode_metadata`), and the piece's place in the whole.
 
 Examples
 --------
@@ -50,10 +50,17 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..bounded import check_regular, confined, current_guard, open_regular, parse_xml
-from ..errors import ExportError
-from ..mesh import Mesh
-from .pieces import Piece
+from blockmesh._system.bounded import (
+    check_regular,
+    confined,
+    current_guard,
+    open_regular,
+    parse_xml,
+)
+from blockmesh.distributed.pieces import Piece
+from blockmesh.errors import ExportError
+from blockmesh.io.xdmf.format import HeavyData
+from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
     "INDEX_SUFFIXES",
@@ -484,9 +491,7 @@ def read_piece(path: Path) -> Piece:
     path = Path(path)
     check_regular(path)
     if path.suffix.lower() == ".h5":
-        from ..io.xdmf import _Heavy
-
-        heavy = _Heavy(path.parent, str(path), None)
+        heavy = HeavyData(path.parent, str(path), None)
         try:
             names = {
                 "points": "mesh/points",

@@ -7,7 +7,7 @@ them): refining the level-``k`` mesh ``L - k`` more times gives exactly the mesh
 numbering and coordinates included, so nothing changes but the grain. ``k`` is also kept at
 least ``L - MAX_TASK_STEPS``, so that a task's template of the remaining levels stays small.
 
-Global ids need no communication: the numbering plan (:mod:`blockmesh.blockplan`) gives every
+Global ids need no communication: the numbering plan (:mod:`blockmesh.refinement.plan`) gives every
 unit's ids from prefix sums of per-unit counts, and the cells are unit-major, so partition ``p``
 owns the contiguous cells ``first_cell(p) .. first_cell(p + 1) - 1``. A node on an edge between
 two partitions belongs to the partition of the lower unit (which numbers it, as the serial walk
@@ -32,15 +32,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..blockplan import RefinementPlan, plan_refinement
-from ..checks import whole_number
-from ..errors import ArgumentError
-from ..mesh import Mesh
-from ..refinement import refine
-from ..topology import boundary_slots, cell_neighbours
+from blockmesh.checks import whole_number
+from blockmesh.errors import ArgumentError, ArgumentTypeError
+from blockmesh.geometry.topology import boundary_slots, cell_neighbours
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.refinement.pipeline import refine
+from blockmesh.refinement.plan import RefinementPlan, plan_refinement
 
 if TYPE_CHECKING:
-    from ..domain import Domain
+    from blockmesh.domain.domain import Domain
 
 __all__ = ["MAX_PARTITIONS", "MAX_TASK_STEPS", "Partitioning", "partition"]
 
@@ -133,7 +134,7 @@ def _split_level(n_blocks: int, level: int, partitions: int) -> int:
     return level - 1
 
 
-def partition(target: Domain | Mesh, level: int, partitions: int) -> Partitioning:
+def partition(target: Domain | Mesh | PolygonMesh, level: int, partitions: int) -> Partitioning:
     """Cut the refinement of ``target`` to ``level`` into ``partitions`` balanced partitions.
 
     O(B 6^k) for the level-``k`` base mesh and its numbering plan; nothing of the final mesh is
@@ -143,7 +144,20 @@ def partition(target: Domain | Mesh, level: int, partitions: int) -> Partitionin
     ------
     ArgumentError
         For a level below 1 or more partitions than the mesh one level below has cells.
+    ArgumentTypeError
+        For a :class:`~blockmesh.mesh.polygons.PolygonMesh`: the pieces are uniform refinements
+        of pentagon blocks, whose nodes on shared edges are numbered by (edge, k/2^L); a mesh of
+        hanging nodes and polygons of other sizes has no such numbering, so it is refined,
+        written and integrated in one process.
     """
+    if isinstance(target, PolygonMesh):
+        raise ArgumentTypeError(
+            "the distributed (Dask) pieces refine pentagon blocks uniformly; a PolygonMesh "
+            f"({target.n_cells:,} cells of {int(target.cell_sizes().min())} to "
+            f"{int(target.cell_sizes().max())} vertices, hanging nodes) is refined, written and "
+            "integrated in one process: use blockmesh.refine, blockmesh.write and "
+            "blockmesh.integrate without partitions"
+        )
     level = whole_number(level, "level")
     partitions = whole_number(partitions, "partitions", minimum=1, maximum=MAX_PARTITIONS)
     coarse = target if isinstance(target, Mesh) else target.block_mesh()

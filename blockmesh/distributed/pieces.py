@@ -12,7 +12,7 @@ global id, with
 
 The cells of a piece are a contiguous run of the whole mesh's cells, starting at
 ``first_cell``. Coordinates are computed by the paper's arithmetic unit by unit, and a unit with a
-curved edge by the curve-aware rule of :mod:`blockmesh.curved_refinement`, so each node has bit
+curved edge by the curve-aware rule of :mod:`blockmesh.refinement.curved`, so each node has bit
 for bit the coordinates the serial refinement gives it; the piece's mesh carries its curved edges
 (``Mesh.curves``), so that it integrates over the exact geometry too.
 
@@ -33,11 +33,11 @@ from functools import partial
 
 import numpy as np
 
-from ..blockplan import block_node_ids, edge_node_ids, place_block
-from ..curved_refinement import CurvedBlocks, refined_curves
-from ..mesh import Mesh
-from ..template import node_count, pentagon_template
-from .partition import Partitioning
+from blockmesh.distributed.partition import Partitioning
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.curved import CurvedBlocks, refined_curves
+from blockmesh.refinement.plan import block_node_ids, edge_node_ids, place_block
+from blockmesh.refinement.template import node_count, pentagon_template
 
 __all__ = ["Piece", "build_piece", "piece_node_count", "piece_nodes"]
 

@@ -27,11 +27,13 @@ from typing import Any
 
 import numpy as np
 
-from ..measures import measure_cells, widest_id_spread
-from ..memory import peak_rss, process_rss
-from .files import piece_name, write_h5_piece, write_vtu_piece
-from .partition import Partitioning
-from .pieces import Piece, build_piece
+from blockmesh._system.memory import peak_rss, process_rss
+from blockmesh.distributed.files import piece_name, write_h5_piece, write_vtu_piece
+from blockmesh.distributed.partition import Partitioning
+from blockmesh.distributed.pieces import Piece, build_piece
+from blockmesh.errors import BlockMeshWarning
+from blockmesh.mesh.measures import measure_cells, widest_id_spread
+from blockmesh.quadrature import integrate_with_estimate
 
 __all__ = ["integrate_piece_task", "piece_summary", "write_piece_task"]
 
@@ -138,9 +140,6 @@ def integrate_piece_task(
     ``exact_geometry`` over the piece's true curved cells.
     """
     import warnings
-
-    from ..errors import BlockMeshWarning
-    from ..quadrature import integrate_with_estimate
 
     mesh = build_piece(parts, piece).mesh
     with warnings.catch_warnings():

@@ -14,7 +14,7 @@ npz         .npz                  NumPy archive of every array (lossless)
 
 The format is taken from ``format=`` when given, else from the path: its extension, or
 ``openfoam`` for a path named ``polyMesh`` or an existing directory. Every writer is atomic (see
-:mod:`blockmesh.atomic`): output goes to a temporary name in the target directory and is
+:mod:`blockmesh._system.atomic`): output goes to a temporary name in the target directory and is
 committed by one rename, so a failure, Ctrl-C or kill never leaves a truncated file or a mixed
 pair and never destroys an old output. Every problem the user can fix, a full disk or a
 read-only folder included, raises :class:`~blockmesh.errors.ExportError`.
@@ -50,12 +50,14 @@ import stat
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..atomic import as_path
-from ..checks import whole_number
-from ..errors import BlockMeshError, ExportError
-from ..mesh import Mesh
-from ._common import Format, check_mesh
-from .split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
+from blockmesh._system.atomic import as_path
+from blockmesh._system.bounded import check_regular, file_kind, reading
+from blockmesh.checks import whole_number
+from blockmesh.errors import BlockMeshError, ExportError
+from blockmesh.io.common import Format, check_mesh
+from blockmesh.io.split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = [
     "FORMATS",
@@ -73,7 +75,7 @@ __all__ = [
 
 #: The format modules, in the order of the table above: each defines ``FORMAT``. They are
 #: imported when a format is first needed (a command that writes nothing does not pay for them).
-_MODULES = ("vtu", "legacy_vtk", "xdmf", "msh", "mat", "openfoam", "npz")
+_MODULES = ("vtu", "vtk", "xdmf", "msh", "mat", "openfoam", "npz")
 
 if TYPE_CHECKING:
     #: The formats, by name (the ``format=`` names), in the order of the table above.
@@ -83,7 +85,7 @@ if TYPE_CHECKING:
 @functools.cache
 def _registry() -> tuple[dict[str, Format], dict[str, Format]]:
     """The formats by name and by extension, their modules imported on the first call."""
-    modules = [importlib.import_module(f".{name}", __name__) for name in _MODULES]
+    modules = [importlib.import_module(f".{name}.format", __name__) for name in _MODULES]
     by_name = {m.FORMAT.name: m.FORMAT for m in modules}
     by_extension = {ext: fmt for fmt in by_name.values() for ext in fmt.extensions}
     return by_name, by_extension
@@ -206,7 +208,7 @@ def check_options(
 
 
 def write(
-    mesh: Mesh,
+    mesh: Mesh | PolygonMesh,
     path: str | os.PathLike[str],
     *,
     format: str | None = None,
@@ -218,7 +220,9 @@ def write(
 
     Parameters
     ----------
-    mesh : Mesh
+    mesh : Mesh or PolygonMesh
+        A PolygonMesh (cells of any vertex count, e.g. from local refinement) is written as the
+        format holds polygons (see :mod:`blockmesh.io.polygons`) and read back as one.
     path : str or PathLike
         The target file, or for OpenFOAM a case directory or ``.../polyMesh``.
     format : str, optional
@@ -228,7 +232,7 @@ def write(
         ``tri5``); refused by the other formats.
     compression : str, optional
         ``"none"``, ``"zlib"`` or ``"lzma"`` as the format allows (``Format.compressions``);
-        default the format's own: ``zlib`` for VTU, ``none`` for the others.
+        default ``none`` (the fastest) for every format.
     **options
         Format-specific options (``Format.options``), e.g. ``dz=0.1`` for OpenFOAM.
 
@@ -265,13 +269,16 @@ def write(
 
 def read(
     path: str | os.PathLike[str], *, format: str | None = None, max_memory: int | None = None
-) -> Mesh:
+) -> Mesh | PolygonMesh:
     """Read a mesh written by :func:`write` (format from ``format`` or the path).
 
-    Files are read within bounds (:mod:`blockmesh.bounded`): only regular files are opened (an
-    OpenFOAM case is a folder of them), every size a file declares is checked against the file
-    and against ``max_memory`` (bytes; default: the memory available now) before anything is
-    allocated, and compressed data never expands past what it declares.
+    A file of polygon cells (a PolygonMesh written, or cells that are not all pentagons) is
+    read as a :class:`~blockmesh.mesh.polygons.PolygonMesh`, anything else as a Mesh.
+
+    Files are read within bounds (:mod:`blockmesh._system.bounded`): only regular files are
+    opened (an OpenFOAM case is a folder of them), every size a file declares is checked against
+    the file and against ``max_memory`` (bytes; default: the memory available now) before
+    anything is allocated, and compressed data never expands past what it declares.
 
     Raises
     ------
@@ -289,8 +296,6 @@ def read(
     ...
     blockmesh.errors.ExportError: cannot read /no/such/mesh.vtu: it does not exist
     """
-    from ..bounded import check_regular, file_kind, reading
-
     p = as_path(path)
     fmt = format_for_path(p, format)
     if max_memory is not None:

@@ -32,10 +32,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ExportError
-from ..topology import edge_keys
+from blockmesh.errors import ExportError
+from blockmesh.geometry.topology import edge_keys
 
-__all__ = ["Merged", "join_lines", "merge_elements"]
+__all__ = ["Merged", "join_lines", "merge_elements", "merge_polygons"]
 
 #: Elements per pentagon of each split.
 _PER_PENTAGON = {"tri3": 3, "tri5": 5, "quad5": 5}
@@ -187,17 +187,14 @@ def _corners(
     return ring[keep].reshape(-1, 5)
 
 
-def _from_outlines(
-    conn: np.ndarray,
-    pentagon: np.ndarray,
-    points: np.ndarray,
-    is_node: np.ndarray | None,
-    where: str,
+def _rings(
+    conn: np.ndarray, owner_ids: np.ndarray, n_nodes: int, where: str, what: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    ids, elem_p = np.unique(pentagon, return_inverse=True)
+    """Each owner's outline from its first element's first node, and that first element."""
+    ids, elem_p = np.unique(owner_ids, return_inverse=True)
     if ids.size and (ids[0] < 0 or ids[-1] != ids.size - 1):
         raise ExportError(
-            f"{where}: the pentagon ids of the elements are not 0..{ids.size - 1} (found "
+            f"{where}: the {what} ids of the elements are not 0..{ids.size - 1} (found "
             f"{ids[0]}..{ids[-1]})"
         )
     per = np.bincount(elem_p, minlength=ids.size)
@@ -213,7 +210,17 @@ def _from_outlines(
     owner = np.repeat(elem_p, k)
     first = np.lexsort((np.arange(conn.shape[0]), elem_p))
     first = first[np.r_[True, elem_p[first][1:] != elem_p[first][:-1]]]
-    ring = _outlines(edges, owner, conn[first, 0], points.shape[0], where)
+    return _outlines(edges, owner, conn[first, 0], n_nodes, where), first
+
+
+def _from_outlines(
+    conn: np.ndarray,
+    pentagon: np.ndarray,
+    points: np.ndarray,
+    is_node: np.ndarray | None,
+    where: str,
+) -> tuple[np.ndarray, np.ndarray]:
+    ring, first = _rings(conn, pentagon, points.shape[0], where, "pentagon")
     return _corners(ring, points, is_node, where), first
 
 
@@ -269,6 +276,28 @@ def merge_elements(
         return Merged(cells, first, is_corner, None, None)
     renumber = np.cumsum(is_corner) - 1
     return Merged(renumber[cells], first, is_corner, np.flatnonzero(is_corner), renumber)
+
+
+def merge_polygons(
+    conn: np.ndarray, cell: np.ndarray, points: np.ndarray, *, where: str, corner_nodes: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Merge elements back into the polygons they were split from (any vertex counts).
+
+    ``conn`` (K, k) are the counter-clockwise elements, ``cell`` (K,) the polygon of each
+    (0..M-1), and the polygons' vertices are the first ``corner_nodes`` nodes (the mesh's own;
+    the split's centres come after). Returns ``(offsets, nodes, first_element)``: each polygon
+    from its first element's first node, counter-clockwise, with every one of the mesh's nodes
+    on its outline (hanging nodes included). O(K log K).
+    """
+    ring, first = _rings(conn, np.reshape(cell, -1), points.shape[0], where, "cell")
+    valid = ring >= 0
+    keep = valid & (np.where(valid, ring, corner_nodes) < corner_nodes)
+    counts = keep.sum(axis=1)
+    if np.any(counts < 3):
+        bad = int(np.flatnonzero(counts < 3)[0])
+        raise ExportError(f"{where}: the elements of cell {bad} merge into fewer than 3 nodes")
+    offsets = np.concatenate([[0], np.cumsum(counts)])
+    return offsets, ring[keep], first
 
 
 def join_lines(

@@ -7,9 +7,9 @@ can crash the interpreter. So files that blockmesh's readers do not handle (anot
 a triangle mesh to convert, the formats only meshio reads) are read by meshio in a child process
 whose address space and CPU time are limited (``setrlimit``):
 
-- memory: the read's limit (:class:`blockmesh.bounded.ReadGuard`), and at most
+- memory: the read's limit (:class:`blockmesh._system.bounded.ReadGuard`), and at most
   :data:`MEMORY_BASE` plus :data:`MEMORY_PER_BYTE` times what the file may expand to
-  (:attr:`~blockmesh.bounded.ReadGuard.expansion_allowed`);
+  (:attr:`~blockmesh._system.bounded.ReadGuard.expansion_allowed`);
 - CPU time: :data:`CPU_SECONDS` plus one second per :data:`BYTES_PER_SECOND` bytes of the file.
 
 The child hands the mesh back as a plain ``.npz`` (no pickles), read with
@@ -40,8 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from ..bounded import MAX_EXPANSION, check_regular, current_guard
-from ..errors import ExportError
+from blockmesh._system.bounded import MAX_EXPANSION, check_regular, current_guard, open_regular
+from blockmesh.errors import ExportError
 
 __all__ = [
     "BYTES_PER_SECOND",
@@ -223,8 +223,6 @@ def _count_arrays(path: Path, where: str) -> None:
     meshio copies the rest of the appended data for each array (quadratic time); the tags are
     counted first, a chunk at a time.
     """
-    from ..bounded import open_regular
-
     token, count, tail = b"<DataArray", 0, b""
     with open_regular(path) as handle:
         while chunk := handle.read(1 << 22):

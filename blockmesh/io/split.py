@@ -12,10 +12,10 @@ Three splits, each keeping every pentagon's children together and counter-clockw
     its edge, so the split mesh is conforming; boundary edges split into two lines.
 
 New nodes are appended after the mesh's own: for ``quad5`` first the edge midpoints (in the
-order of :func:`blockmesh.topology.unique_edges`), then the centres (in cell order); for ``tri5``
-the centres.
-Element ``k`` of cell ``p`` is row ``n * p + k`` (``n`` = 5 or 3), and its first node is corner 0
-of ``p`` when ``k = 0`` — which lets a reader rebuild each pentagon with its own corner order.
+order of :func:`blockmesh.geometry.topology.unique_edges`), then the centres (in cell order); for
+``tri5`` the centres. Element ``k`` of cell ``p`` is row ``n * p + k`` (``n`` = 5 or 3), and its
+first node is corner 0 of ``p`` when ``k = 0`` — which lets a reader rebuild each pentagon with its
+own corner order.
 
 Examples
 --------
@@ -34,9 +34,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ExportError
-from ..mesh import Mesh
-from ..topology import edge_index, edge_keys
+from blockmesh.errors import ExportError
+from blockmesh.geometry.topology import edge_index, edge_keys
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
 
 __all__ = ["SPLITS", "SplitBoundary", "SplitCells", "split_boundary", "split_cells"]
 
@@ -85,20 +86,23 @@ def check_split(split: str | None) -> str:
     return split
 
 
-def _midpoints(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+def _midpoints(mesh: Mesh | PolygonMesh) -> tuple[np.ndarray, np.ndarray]:
     """Unique edge keys (sorted) and, per cell edge slot (M, 5), the index of its edge."""
-    return edge_index(mesh.cells, mesh.n_points)
+    cells = mesh.polygon_cells() if isinstance(mesh, PolygonMesh) else mesh.cells
+    return edge_index(cells, mesh.n_points)
 
 
-def split_cells(mesh: Mesh, split: str) -> SplitCells:
+def split_cells(mesh: Mesh | PolygonMesh, split: str) -> SplitCells:
     """Split every pentagon of ``mesh`` into triangles or quadrilaterals (see the module notes).
 
     O(M) for ``tri5`` and ``tri3``, O(M log M) for ``quad5`` (the edge numbering).
 
     Parameters
     ----------
-    mesh : Mesh
+    mesh : Mesh or PolygonMesh
     split : {"tri5", "tri3", "quad5"}
+        A PolygonMesh takes ``tri5`` only: n triangles around the vertex mean of a cell of n
+        vertices.
 
     Returns
     -------
@@ -115,6 +119,8 @@ def split_cells(mesh: Mesh, split: str) -> SplitCells:
     [[0, 1, 2], [0, 2, 3], [0, 3, 4]]
     """
     check_split(split)
+    if isinstance(mesh, PolygonMesh):
+        return _split_polygons(mesh, split)
     cells, n, m = mesh.cells, mesh.n_points, mesh.n_cells
     if split == "tri3":
         tris = np.stack([cells[:, [0, 1, 2]], cells[:, [0, 2, 3]], cells[:, [0, 3, 4]]], axis=1)
@@ -135,7 +141,28 @@ def split_cells(mesh: Mesh, split: str) -> SplitCells:
     return SplitCells(points, quads.reshape(-1, 4), np.repeat(np.arange(m), 5))
 
 
-def split_boundary(mesh: Mesh, split: str) -> SplitBoundary:
+def _split_polygons(mesh: PolygonMesh, split: str) -> SplitCells:
+    """A polygon mesh's cells as the fan of triangles around each vertex mean (``tri5``).
+
+    A cell of n vertices gives n triangles ``(v_i, v_i+1, c)``, valid for every cell star-shaped
+    from its vertex mean (which PolygonMesh requires), hanging nodes included; a fan from a
+    corner (``tri3``) would give triangles of no area at straight vertices, so only ``tri5`` is
+    offered.
+    """
+    if split != "tri5":
+        raise ExportError(
+            f"split {split!r} is for pentagons; a polygon mesh (cells of {mesh.cell_sizes().min()}"
+            f" to {mesh.cell_sizes().max()} vertices) is split by tri5: the fan of triangles "
+            "around each cell's vertex mean"
+        )
+    cells = mesh.polygon_cells()
+    owner = cells.slot_cell()
+    tris = np.stack([mesh.nodes, cells.following(), mesh.n_points + owner], axis=1)
+    points = np.concatenate([mesh.points, mesh.vertex_means()])
+    return SplitCells(points, tris, owner)
+
+
+def split_boundary(mesh: Mesh | PolygonMesh, split: str) -> SplitBoundary:
     """The boundary lines matching :func:`split_cells` (halved edges for ``quad5``).
 
     Examples

@@ -31,8 +31,9 @@ from typing import BinaryIO, Protocol
 
 import numpy as np
 
-from ..doubledouble import two_prod
-from ..errors import ExportError
+from blockmesh._system.bounded import current_guard
+from blockmesh.errors import ExportError
+from blockmesh.numerics.doubledouble import two_prod
 
 __all__ = ["TextReader", "float_bytes", "int_bytes", "parse_numbers", "write_rows"]
 
@@ -459,7 +460,6 @@ class TextReader:
                 f"{self.where}, line {self.line_number}: a table of {rows} lines of {cols} "
                 f"numbers is announced, but the file has only {left} bytes left (damaged?)"
             )
-        from ..bounded import current_guard
 
         itemsize = np.dtype(out_dtype or dtype).itemsize
         current_guard(self.where).allocate(rows * width * itemsize, f"a table of {rows:,} lines")

@@ -17,15 +17,21 @@ import math
 
 import numpy as np
 
-from ..curved_quadrature import exact_sums
-from ..errors import ArgumentError, ArgumentTypeError, ResourceError
-from ..refinement import refine
-from .arguments import Integrand, check_chunk, check_integrand, check_max_points, check_nonnegative
-from .kernel import DEFAULT_CHUNK, cell_sums, scaled_sum, total_of
-from .registry import get_rule, order_of
-from .result import IntegrationResult
-from .rule import Rule
-from .targets import plan_mesh
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
+from blockmesh.quadrature.arguments import (
+    Integrand,
+    check_chunk,
+    check_integrand,
+    check_max_points,
+    check_nonnegative,
+)
+from blockmesh.quadrature.curved import exact_sums
+from blockmesh.quadrature.kernel import DEFAULT_CHUNK, cell_sums, scaled_sum, total_of
+from blockmesh.quadrature.registry import get_rule, order_of
+from blockmesh.quadrature.result import IntegrationResult
+from blockmesh.quadrature.rule import Rule
+from blockmesh.quadrature.targets import plan_mesh
+from blockmesh.refinement.pipeline import refine
 
 __all__ = ["integrate_to_tolerance"]
 

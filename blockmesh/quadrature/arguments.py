@@ -8,9 +8,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..checks import whole_number
-from ..errors import ArgumentError, ArgumentTypeError
-from ..expr import parse_expression
+from blockmesh.checks import whole_number
+from blockmesh.errors import ArgumentError, ArgumentTypeError
+from blockmesh.numerics.expr import parse_expression
 
 __all__ = ["Integrand", "check_chunk", "check_integrand", "check_max_points", "check_nonnegative"]
 

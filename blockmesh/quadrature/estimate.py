@@ -40,7 +40,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .rule import Rule
+from blockmesh.quadrature.rule import Rule
 
 __all__ = ["MODES", "NullRule", "null_rule"]
 

@@ -13,10 +13,10 @@ Examples
 
 from __future__ import annotations
 
-from ..gauss import MAX_POINTS
-from .jacobi import jacobi_nodes
-from .layouts import CORNER_FAN
-from .rule import Rule
+from blockmesh.numerics.gauss import MAX_POINTS
+from blockmesh.quadrature.jacobi import jacobi_nodes
+from blockmesh.quadrature.layouts import CORNER_FAN
+from blockmesh.quadrature.rule import Rule
 
 __all__ = ["RULE"]
 

@@ -22,22 +22,35 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..curved_quadrature import exact_sums
-from ..errors import ArgumentTypeError, BlockMeshWarning
-from ..mesh import Mesh
-from .arguments import (
+from blockmesh.errors import ArgumentTypeError, BlockMeshWarning
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.quadrature.arguments import (
     Integrand,
     check_chunk,
     check_integrand,
     check_max_points,
     check_nonnegative,
 )
-from .estimate import null_rule
-from .kernel import DEFAULT_CHUNK, cell_sums, chunks, scaled_sum, straight_tables, total_of
-from .registry import get_rule, order_of
-from .result import IntegrationResult
-from .rule import Rule
-from .targets import DEFAULT_MAX_POINTS, MeshPlan, check_work, plan_mesh
+from blockmesh.quadrature.curved import exact_sums
+from blockmesh.quadrature.estimate import null_rule
+from blockmesh.quadrature.kernel import (
+    DEFAULT_CHUNK,
+    cell_sums,
+    chunks,
+    scaled_sum,
+    straight_tables,
+    total_of,
+)
+from blockmesh.quadrature.polygons import (
+    check_polygon_target,
+    polygon_cell_integrals,
+    polygon_chunks,
+)
+from blockmesh.quadrature.registry import get_rule, order_of
+from blockmesh.quadrature.result import IntegrationResult
+from blockmesh.quadrature.rule import Rule
+from blockmesh.quadrature.targets import DEFAULT_MAX_POINTS, MeshPlan, check_work, plan_mesh
 
 __all__ = [
     "DEFAULT_WARN_RTOL",
@@ -91,12 +104,14 @@ def integrate(
 
     Parameters
     ----------
-    target : Domain or Mesh
+    target : Domain, Mesh or PolygonMesh
         A Domain is refined to ``level`` first (default: its block mesh, level 0).
         A Mesh is used as it is, or refined further when ``level`` is above its own level.
+        A PolygonMesh (any vertex counts, hanging nodes) is integrated on its own cells, each
+        cut into triangles from its vertex mean (:mod:`blockmesh.quadrature.polygons`).
     f : callable or str
         A vectorised ``f(x, y)`` (numpy arrays in, an array of the same shape or a scalar out)
-        or an expression string (see :func:`blockmesh.expr.parse_expression`).
+        or an expression string (see :func:`blockmesh.numerics.expr.parse_expression`).
     order : int
         The rule's order n: exact for polynomials of total degree ``2n - 1``.
     level : int, optional
@@ -113,7 +128,7 @@ def integrate(
         ``|integral|``; ``None`` skips the estimate (slightly faster, no warning).
     exact_geometry : bool
         Integrate the cells with curved edges over their true curved shape
-        (:mod:`blockmesh.curved_quadrature`) instead of their straight cells; no effect on a
+        (:mod:`blockmesh.quadrature.curved`) instead of their straight cells; no effect on a
         mesh without curves.
 
     Returns
@@ -143,6 +158,14 @@ def integrate(
     >>> round(integrate(usp, "1", order=1), 14)  # the area
     6.0
     """
+    if isinstance(target, PolygonMesh):
+        if warn_rtol is None:
+            return _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[
+                0
+            ].sum()
+        return _polygon_estimate(
+            target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3
+        ).value
     if warn_rtol is None:
         function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
         mesh = plan.build()
@@ -176,6 +199,10 @@ def integrate_cells(
     >>> cells.shape, round(float(cells.sum()), 13)
     ((6,), 7.3333333333333)
     """
+    if isinstance(target, PolygonMesh):
+        values = _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[0]
+        values.setflags(write=False)
+        return values
     function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
     mesh = plan.build()
     sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
@@ -224,8 +251,78 @@ def integrate_with_estimate(
     >>> str(caught[0].message).split(":")[0]
     'the integral is not resolved'
     """
+    if isinstance(target, PolygonMesh):
+        return _polygon_estimate(
+            target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3
+        )
     return _with_estimate(
         target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, stacklevel=3
+    )
+
+
+def _polygon_values(
+    mesh: PolygonMesh,
+    f: object,
+    order: object,
+    level: object,
+    rule: object,
+    max_points: object,
+    exact_geometry: object,
+    chunk: int = DEFAULT_CHUNK,
+) -> tuple[np.ndarray, Rule, int, int]:
+    """Cell integrals over a polygon mesh, the rule, its order and the points used."""
+    found = get_rule(rule)  # type: ignore[arg-type]
+    n = order_of(found, order)
+    function = check_integrand(f)
+    points = check_polygon_target(
+        mesh, level, _flag(exact_geometry), found, n, check_max_points(max_points)
+    )
+    return polygon_cell_integrals(mesh, function, found, n, chunk), found, n, points
+
+
+def _polygon_estimate(
+    mesh: PolygonMesh,
+    f: object,
+    order: object,
+    level: object,
+    rule: object,
+    chunk: object,
+    max_points: object,
+    warn_rtol: object,
+    exact_geometry: object,
+    stacklevel: int,
+) -> IntegrationResult:
+    """:func:`integrate_with_estimate` on a polygon mesh: twice the difference to order n + 1."""
+    warn_level = check_nonnegative(warn_rtol, "warn_rtol")
+    values, found, n, points = _polygon_values(
+        mesh, f, order, level, rule, max_points, exact_geometry, check_chunk(chunk)
+    )
+    check = n + 1 if n + 1 <= found.max_order else n - 1
+    other = _polygon_values(mesh, f, check, level, found, max_points, exact_geometry)[0]
+    per_cell = _SAFETY * np.abs(values - other)
+    value = scaled_sum(values)
+    estimate = scaled_sum(per_cell)
+    scale = scaled_sum(np.abs(values))
+    limit = scaled_sum(np.abs(values), warn_level + _ROUNDOFF)
+    worst = int(np.argmax(per_cell)) if mesh.n_cells and np.any(per_cell > 0) else None
+    converged = estimate <= limit
+    how = f"twice the difference to order {check}, cell by cell"
+    message = f"error estimate {estimate:.3g} {how}"
+    if not converged:
+        message = _not_resolved(mesh, worst, value, estimate, scale, warn_level, how)
+        warnings.warn(BlockMeshWarning(message), stacklevel=stacklevel)
+    return IntegrationResult(
+        value,
+        estimate,
+        n,
+        mesh.level,
+        found.name,
+        mesh.n_cells,
+        2 * points,
+        converged,
+        message,
+        ((mesh.level, n, value), (mesh.level, check, scaled_sum(other))),
+        worst,
     )
 
 
@@ -302,7 +399,7 @@ def _flag(exact_geometry: object) -> bool:
 
 
 def _not_resolved(
-    mesh: Mesh,
+    mesh: Mesh | PolygonMesh,
     worst: int | None,
     value: float,
     estimate: float,
@@ -312,7 +409,8 @@ def _not_resolved(
 ) -> str:
     where = ""
     if worst is not None:
-        x, y = mesh.points[mesh.cells[worst]].mean(axis=0)
+        corners = mesh.cell(worst) if isinstance(mesh, PolygonMesh) else mesh.cells[worst]
+        x, y = mesh.points[corners].mean(axis=0)
         where = f"; it is largest in cell {worst} (around ({x:.6g}, {y:.6g}))"
     larger = f", and larger than the value {value:.6g} itself" if estimate > abs(value) else ""
     return (
@@ -345,6 +443,15 @@ def quadrature_points(
     """
     found = get_rule(rule)
     n = order_of(found, order)
+    if isinstance(target, PolygonMesh):
+        check_polygon_target(target, level, False, found, n, check_max_points(max_points))
+        parts = list(polygon_chunks(target, found, n, DEFAULT_CHUNK))
+        if not parts:
+            empty = np.empty(0)
+            return empty, empty.copy(), empty.copy()
+        return tuple(  # type: ignore[return-value]
+            np.concatenate([part[k].reshape(-1) for part in parts]) for k in (1, 2, 3)
+        )
     plan = plan_mesh(target, level)
     check_work(plan, found.info(n).points_per_cell, check_max_points(max_points), f"order {n}")
     _, weights = straight_tables(found, n)

@@ -32,10 +32,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import ExpressionError
-from ..mesh import Mesh
-from .estimate import NullRule
-from .rule import Rule
+from blockmesh.errors import ExpressionError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.quadrature.estimate import NullRule
+from blockmesh.quadrature.rule import Rule
 
 __all__ = [
     "DEFAULT_CHUNK",

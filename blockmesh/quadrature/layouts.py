@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .rule import Layout
+from blockmesh.quadrature.rule import Layout
 
 __all__ = ["CENTRE", "CORNER_FAN"]
 

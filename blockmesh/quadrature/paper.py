@@ -21,9 +21,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..gauss import MAX_POINTS, gauss_legendre
-from .layouts import CENTRE
-from .rule import Rule, SectorNodes
+from blockmesh.numerics.gauss import MAX_POINTS, gauss_legendre
+from blockmesh.quadrature.layouts import CENTRE
+from blockmesh.quadrature.rule import Rule, SectorNodes
 
 __all__ = ["RULE"]
 

@@ -24,10 +24,12 @@ blockmesh.errors.UnknownNameError: unknown rule 'simpson'; choose one of: paper,
 
 from __future__ import annotations
 
-from ..checks import whole_number
-from ..errors import ArgumentTypeError, UnknownNameError
-from . import fan, jacobi, paper
-from .rule import Rule, RuleInfo
+import blockmesh.quadrature.fan as fan
+import blockmesh.quadrature.jacobi as jacobi
+import blockmesh.quadrature.paper as paper
+from blockmesh.checks import whole_number
+from blockmesh.errors import ArgumentTypeError, UnknownNameError
+from blockmesh.quadrature.rule import Rule, RuleInfo
 
 __all__ = ["RULES", "get_rule", "order_of", "rule_info"]
 

@@ -1,7 +1,7 @@
 """What a quadrature rule is: nodes on the unit square of a sector, and a layout of sectors.
 
 Every rule integrates a cell sector by sector. A **sector** has an apex ``c`` (a point inside the
-cell) and an **edge** ``γ(s)``, ``0 <= s <= 1``; it is the image of the unit square under
+cell) and an **edge** ``γ(s)``, ``0 <= s <= 1``; it is the image of the unit square under::
 
     x(r, s) = (1 - r) c + r γ(s),      Jacobian  r |det(γ(s) - c, γ'(s))|,
 

@@ -20,11 +20,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from decimal import Decimal
 
-from ..checks import whole_number
-from ..domain import Domain
-from ..errors import ArgumentError, ArgumentTypeError, ResourceError
-from ..mesh import Mesh
-from ..refinement import refine
+from blockmesh.checks import whole_number
+from blockmesh.domain.domain import Domain
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.pipeline import refine
 
 __all__ = ["DEFAULT_MAX_POINTS", "MeshPlan", "check_work", "count", "plan_mesh"]
 

@@ -8,7 +8,7 @@ Each table integrates one function over the paper's two pentagons, SP ``<(-1,-1)
 The package: :mod:`.data` (the paper's data, read from ``paper_tables.json`` here: pentagons,
 integrands, reference values with ``∫|f|``, the printed entries, the errata), :mod:`.compute`
 (the tables regenerated), :mod:`.report` (text in the paper's layout, CSV); the convergence
-picture is :func:`blockmesh.plot_tables.plot_convergence`.
+picture is :func:`blockmesh.tables.plot.plot_convergence`.
 
 Examples
 --------
@@ -20,8 +20,8 @@ Examples
 True
 """
 
-from .compute import PaperTable, compute_table, pentagon_mesh
-from .data import (
+from blockmesh.tables.compute import PaperTable, compute_table, pentagon_mesh
+from blockmesh.tables.data import (
     CASES,
     ERRATA,
     INTEGRANDS,
@@ -35,7 +35,8 @@ from .data import (
     pentagon_title,
     table_orders,
 )
-from .report import format_table, write_csv
+from blockmesh.tables.plot import plot_convergence
+from blockmesh.tables.report import format_table, write_csv
 
 __all__ = [
     "CASES",
@@ -59,9 +60,7 @@ __all__ = [
 
 
 def __getattr__(name: str) -> object:
-    """``plot_convergence`` from :mod:`blockmesh.plot_tables` (kept here for old imports)."""
+    """``plot_convergence`` from :mod:`blockmesh.tables.plot` (kept here for old imports)."""
     if name == "plot_convergence":
-        from ..plot_tables import plot_convergence
-
         return plot_convergence
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -15,16 +15,16 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..checks import whole_number
-from ..errors import ArgumentTypeError
-from ..expr import parse_expression
-from ..mesh import Mesh
-from ..quadrature.arguments import check_chunk, check_max_points
-from ..quadrature.kernel import DEFAULT_CHUNK, cell_sums, total_of
-from ..quadrature.registry import get_rule, order_of
-from ..quadrature.targets import DEFAULT_MAX_POINTS, check_work, plan_mesh
-from ..refinement import refine
-from .data import PENTAGONS, PaperCase, _check_pentagon, paper_case, table_orders
+from blockmesh.checks import whole_number
+from blockmesh.errors import ArgumentTypeError
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.numerics.expr import parse_expression
+from blockmesh.quadrature.arguments import check_chunk, check_max_points
+from blockmesh.quadrature.kernel import DEFAULT_CHUNK, cell_sums, total_of
+from blockmesh.quadrature.registry import get_rule, order_of
+from blockmesh.quadrature.targets import DEFAULT_MAX_POINTS, check_work, plan_mesh
+from blockmesh.refinement.pipeline import refine
+from blockmesh.tables.data import PENTAGONS, PaperCase, _check_pentagon, paper_case, table_orders
 
 __all__ = ["PaperTable", "compute_table", "pentagon_mesh"]
 

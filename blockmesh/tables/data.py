@@ -27,8 +27,8 @@ from fractions import Fraction
 from importlib import resources
 from typing import Any
 
-from ..checks import whole_number
-from ..errors import ArgumentError, ArgumentTypeError, UnknownNameError
+from blockmesh.checks import whole_number
+from blockmesh.errors import ArgumentError, ArgumentTypeError, UnknownNameError
 
 __all__ = [
     "CASES",

@@ -15,8 +15,8 @@ from __future__ import annotations
 import csv
 import io
 
-from .compute import PaperTable
-from .data import ERRATA, PENTAGONS, TOLERANCE, pentagon_title
+from blockmesh.tables.compute import PaperTable
+from blockmesh.tables.data import ERRATA, PENTAGONS, TOLERANCE, pentagon_title
 
 __all__ = ["format_table", "write_csv"]
 

@@ -24,13 +24,13 @@ Examples
 True
 """
 
-from .assembly import SOLVERS, SolveInfo
-from .elasticity import ElasticitySolution, elasticity_matrix, solve_elasticity
-from .norms import ErrorNorms
-from .output import write_solution
-from .poisson import PoissonSolution, solve_poisson
-from .polygons import CellGroup, PolygonMesh
-from .stabilization import STABILIZATIONS
+from blockmesh.vem.assembly import SOLVERS, SolveInfo
+from blockmesh.vem.elasticity import ElasticitySolution, elasticity_matrix, solve_elasticity
+from blockmesh.vem.norms import ErrorNorms
+from blockmesh.vem.output import write_solution
+from blockmesh.vem.poisson import PoissonSolution, solve_poisson
+from blockmesh.vem.polygons import CellGroup, PolygonMesh
+from blockmesh.vem.stabilization import STABILIZATIONS
 
 __all__ = [
     "SOLVERS",

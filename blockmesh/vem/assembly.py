@@ -5,14 +5,19 @@ one ``scipy.sparse`` CSR matrix. Constrained degrees of freedom are eliminated (
 to the right-hand side); the remaining symmetric positive definite system is solved
 
 * ``solver="direct"`` (default): a sparse LU factorisation (SuperLU, minimum-degree ordering on
-  ``A + Aᵀ``); exact to round-off, fine up to a few hundred thousand unknowns;
+  ``A + Aᵀ`` for uniformly refined meshes, column approximate minimum degree for locally refined
+  ones, see :func:`ordering_for`); exact to round-off, fine up to a few hundred thousand
+  unknowns;
 * ``solver="amg"``: smoothed-aggregation algebraic multigrid as a preconditioner for conjugate
   gradients (``pyamg``, an optional dependency: ``pip install 'blockmesh[vem]'``), to a relative
   residual ``tol``; for large systems. For elasticity the rigid motions are given to the
   aggregation as its near-null space.
 
 A singular system (no boundary condition fixes a constant or a rigid motion) is detected before
-the solve by the callers; a failed solve raises :class:`~blockmesh.errors.SolverError`.
+the solve by the callers; a failed solve raises :class:`~blockmesh.errors.SolverError`, and a
+factorisation that runs out of memory :class:`~blockmesh.errors.ResourceError` (SuperLU reports
+a failed allocation as a ``RuntimeError`` "Malloc fails for ..." or as ``MemoryError``). The
+memory a direct solve needs is predicted by :func:`blockmesh.memory.predict_solve_command`.
 
 Examples
 --------
@@ -28,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -36,8 +42,8 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
-from ..checks import choice
-from ..errors import ArgumentError, SolverError
+from blockmesh.checks import choice
+from blockmesh.errors import ArgumentError, ResourceError, SolverError
 
 __all__ = [
     "SOLVERS",
@@ -45,6 +51,7 @@ __all__ = [
     "assemble_matrix",
     "assemble_vector",
     "check_tolerance",
+    "ordering_for",
     "solve_system",
 ]
 
@@ -117,6 +124,27 @@ def assemble_vector(dofs: list[np.ndarray], blocks: list[np.ndarray], size: int)
     return out
 
 
+#: SuperLU's column orderings by name (see :func:`ordering_for`).
+ORDERINGS = ("MMD_AT_PLUS_A", "COLAMD")
+
+
+def ordering_for(cell_level: np.ndarray) -> str:
+    """The SuperLU ordering for a mesh whose cells have the levels ``cell_level``.
+
+    Measured on 7-15k unknowns: on uniformly refined meshes (the paper's nested numbering)
+    ``MMD_AT_PLUS_A`` factors 1.2-1.8x faster than ``COLAMD``; on locally refined ones (new nodes
+    numbered after the old) it is 8x slower (3.2 s against 0.39 s at 13k unknowns).
+
+    Examples
+    --------
+    >>> ordering_for(np.array([2, 2, 2])), ordering_for(np.array([2, 3, 2]))
+    ('MMD_AT_PLUS_A', 'COLAMD')
+    """
+    levels = np.asarray(cell_level)
+    uniform = levels.size == 0 or bool(np.all(levels == levels[0]))
+    return ORDERINGS[0] if uniform else ORDERINGS[1]
+
+
 def solve_system(
     matrix: sparse.csr_matrix,
     rhs: np.ndarray,
@@ -127,11 +155,14 @@ def solve_system(
     tol: float = 1e-10,
     constraints: np.ndarray | None = None,
     near_nullspace: np.ndarray | None = None,
+    ordering: str = ORDERINGS[0],
 ) -> tuple[np.ndarray, SolveInfo]:
     """Solve ``matrix u = rhs`` with ``u[fixed] = values``.
 
     Parameters
     ----------
+    ordering : {"MMD_AT_PLUS_A", "COLAMD"}
+        The direct solver's column ordering (:func:`ordering_for`).
     constraints : ndarray (n, k), optional
         Extra linear constraints ``constraintsᵀ u = 0`` (Lagrange multipliers; direct solver only):
         the mean-value condition of a pure Neumann problem.
@@ -158,9 +189,9 @@ def solve_system(
                 "a mean-value constraint needs solver='direct' (the augmented system is not "
                 "positive definite)"
             )
-        solution = _solve_constrained(reduced, b, constraints[free_ids])
+        solution = _solve_constrained(reduced, b, constraints[free_ids], ordering)
     elif solver == "direct":
-        solution = _solve_direct(reduced, b)
+        solution = _solve_direct(reduced, b, ordering)
     else:
         candidates = None if near_nullspace is None else near_nullspace[free_ids]
         solution, iterations = _solve_amg(reduced, b, tol, candidates)
@@ -177,12 +208,31 @@ def solve_system(
     return u, info
 
 
-def _solve_direct(matrix: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
+#: How SuperLU words a failed allocation (its ABORT becomes a RuntimeError in scipy).
+_NO_MEMORY = re.compile(r"malloc|memory", re.IGNORECASE)
+
+
+def _out_of_memory(matrix: sparse.csr_matrix) -> ResourceError:
+    return ResourceError(
+        f"ran out of memory factorising the system of {matrix.shape[0]:,} unknowns "
+        f"({matrix.nnz:,} non-zeros) with the direct solver; try a lower level, "
+        "solver='amg', or free memory"
+    )
+
+
+def _solve_direct(
+    matrix: sparse.csr_matrix, b: np.ndarray, ordering: str = ORDERINGS[0]
+) -> np.ndarray:
+    choice(ordering, ORDERINGS, "ordering")
     with warnings.catch_warnings():
         warnings.simplefilter("error", sparse_linalg.MatrixRankWarning)
         try:
-            lu = sparse_linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A")
+            lu = sparse_linalg.splu(matrix.tocsc(), permc_spec=ordering)
+        except MemoryError:
+            raise _out_of_memory(matrix) from None
         except (RuntimeError, sparse_linalg.MatrixRankWarning) as error:
+            if isinstance(error, RuntimeError) and _NO_MEMORY.search(str(error)):
+                raise _out_of_memory(matrix) from None
             raise SolverError(
                 f"the system matrix is singular ({error}); the boundary conditions do not "
                 "determine the solution"
@@ -194,12 +244,12 @@ def _solve_direct(matrix: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
 
 
 def _solve_constrained(
-    matrix: sparse.csr_matrix, b: np.ndarray, constraints: np.ndarray
+    matrix: sparse.csr_matrix, b: np.ndarray, constraints: np.ndarray, ordering: str
 ) -> np.ndarray:
     k = constraints.shape[1]
     block = sparse.csr_matrix(constraints)
     augmented = sparse.bmat([[matrix, block], [block.T, None]], format="csc")
-    full = _solve_direct(augmented.tocsr(), np.concatenate([b, np.zeros(k)]))
+    full = _solve_direct(augmented.tocsr(), np.concatenate([b, np.zeros(k)]), ordering)
     return full[: matrix.shape[0]]
 
 

@@ -28,12 +28,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ArgumentTypeError, SolverError
-from .fields import Field, free_vector_field, scalar_field, vector_field
-from .polygons import PolygonMesh
-from .rules import edge_rule
+from blockmesh.errors import ArgumentTypeError, SolverError
+from blockmesh.vem.fields import Field, free_vector_field, scalar_field, vector_field
+from blockmesh.vem.polygons import PolygonMesh
+from blockmesh.vem.rules import edge_rule
 
-__all__ = ["BoundaryConditions", "PatchCondition", "boundary_conditions"]
+__all__ = ["BoundaryConditions", "PatchCondition", "ProblemData", "boundary_conditions"]
 
 
 @dataclass(frozen=True)
@@ -87,6 +87,25 @@ class BoundaryConditions:
                 ends = np.stack([np.sum(g * (1 - s), axis=1), np.sum(g * s, axis=1)], axis=1)
                 np.add.at(out, self.components * edges + c, ends)
         return out
+
+
+@dataclass(frozen=True)
+class ProblemData:
+    """The data a solution was computed from, kept for the error estimator.
+
+    Attributes
+    ----------
+    load : tuple of Field
+        The source f (one field) or the body force (two).
+    conditions : BoundaryConditions
+    recipe : str
+        The stabilisation recipe; ``scale`` its factor.
+    """
+
+    load: tuple[Field, ...]
+    conditions: BoundaryConditions
+    recipe: str
+    scale: float
 
 
 def boundary_conditions(

@@ -17,8 +17,8 @@ Examples
 >>> from blockmesh.vem import solve_elasticity
 >>> mesh = blockmesh.load_domain("square").mesh(1)
 >>> sol = solve_elasticity(mesh, young=1.0, poisson=0.3,  # uniaxial tension: exact
-...                        displacement={"left": "0, free", "bottom": "free, 0"},
-...                        traction={"right": "1, 0"})
+...                        dirichlet={"left": "0, free", "bottom": "free, 0"},
+...                        neumann={"right": "1, 0"})
 >>> bool(abs(sol.stress - [1.0, 0.0, 0.0]).max() < 1e-12)
 True
 >>> round(float(sol.displacement[:, 0].max()), 10)  # u_x = x / E at x = 1
@@ -34,16 +34,22 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import choice
-from ..errors import ArgumentError, SolverError
-from .assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from .boundary import boundary_conditions
-from .fields import Field, vector_field
-from .norms import ErrorNorms, error_norms
-from .polygons import PolygonMesh, as_polygon_mesh
-from .projections import Projections, projections
-from .rules import cell_chunks, cell_rule, check_order, points_per_cell
-from .stabilization import check_scale, check_stabilization, stabilize
+from blockmesh.checks import choice, renamed_keywords
+from blockmesh.errors import ArgumentError, SolverError
+from blockmesh.vem.assembly import (
+    SolveInfo,
+    assemble_matrix,
+    assemble_vector,
+    ordering_for,
+    solve_system,
+)
+from blockmesh.vem.boundary import ProblemData, boundary_conditions
+from blockmesh.vem.fields import Field, vector_field
+from blockmesh.vem.norms import ErrorNorms, error_norms
+from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
+from blockmesh.vem.projections import Projections, projections
+from blockmesh.vem.rules import cell_chunks, cell_rule, check_order, points_per_cell
+from blockmesh.vem.stabilization import check_scale, check_stabilization, stabilize
 
 __all__ = ["PLANES", "ElasticitySolution", "elasticity_matrix", "solve_elasticity"]
 
@@ -109,6 +115,7 @@ class ElasticitySolution:
     material: np.ndarray
     _projections: tuple[Projections, ...]
     _order: int
+    _data: ProblemData | None = None
 
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
@@ -149,15 +156,16 @@ class ElasticitySolution:
         )
 
 
+@renamed_keywords(body_force="source", displacement="dirichlet", traction="neumann")
 def solve_elasticity(
     mesh: Any,
+    source: Any = (0.0, 0.0),
     *,
     young: float,
     poisson: float,
     plane: str = "stress",
-    body_force: Any = (0.0, 0.0),
-    displacement: Mapping[str, Any] | None = None,
-    traction: Mapping[str, Any] | None = None,
+    dirichlet: Mapping[str, Any] | None = None,
+    neumann: Mapping[str, Any] | None = None,
     constraint: str | None = None,
     order: int = 3,
     stabilization: str = "trace",
@@ -172,13 +180,16 @@ def solve_elasticity(
     mesh : Mesh or PolygonMesh
     young, poisson : float
         Young's modulus E > 0 and Poisson's ratio ν in (-1, 0.5).
+    source : pair or str
+        The body force ``(f_x, f_y)`` per unit area (numbers, expressions, callables, or
+        ``"FX, FY"``); the role ``source`` has in :func:`~blockmesh.vem.solve_poisson` (earlier
+        name: ``body_force``).
     plane : {"stress", "strain"}
-    body_force : pair or str
-        ``(f_x, f_y)`` per unit area (numbers, expressions, callables, or ``"FX, FY"``).
-    displacement : mapping of patch name to a pair, optional
-        Prescribed ``(u_x, u_y)``; a component ``None`` or ``"free"`` is not prescribed.
-    traction : mapping of patch name to a pair, optional
-        ``σ n`` on those patches (force per unit length).
+    dirichlet : mapping of patch name to a pair, optional
+        Prescribed displacements ``(u_x, u_y)``; a component ``None`` or ``"free"`` is not
+        prescribed (earlier name: ``displacement``).
+    neumann : mapping of patch name to a pair, optional
+        Tractions ``σ n`` on those patches, force per unit length (earlier name: ``traction``).
     constraint : {"rigid"}, optional
         Remove the rigid motions the displacement conditions leave free (zero mean
         translation and rotation of the nodes); the loads must then balance.
@@ -197,6 +208,9 @@ def solve_elasticity(
         For a patch given both conditions; displacement conditions that leave a rigid motion
         free (without ``constraint="rigid"``); unbalanced loads on a free rigid motion; a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
@@ -206,11 +220,11 @@ def solve_elasticity(
     scale = check_scale(stabilization_scale)
     if constraint is not None and constraint != "rigid":
         raise ArgumentError(f"unknown constraint {constraint!r}; choose one of: rigid")
-    force = vector_field(body_force, "body force")
+    force = vector_field(source, "body force")
     bc = boundary_conditions(
         pm,
-        displacement,
-        traction,
+        dirichlet,
+        neumann,
         components=2,
         dirichlet_name="displacement",
         neumann_name="traction",
@@ -241,6 +255,7 @@ def solve_elasticity(
         tol=tol,
         constraints=constraints,
         near_nullspace=rigid,
+        ordering=ordering_for(pm.cell_level),
     )
     strain = np.empty((pm.n_cells, 3))
     for group, d, strain_map in zip(pm.groups, dofs, strains, strict=True):
@@ -261,6 +276,7 @@ def solve_elasticity(
         material,
         tuple(projs),
         order,
+        ProblemData(tuple(force), bc, recipe, scale),
     )
 
 

@@ -22,8 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ArgumentError
-from .polygons import PolygonMesh
+from blockmesh.errors import ArgumentError
+from blockmesh.vem.polygons import PolygonMesh
 
 __all__ = ["boundary_values"]
 

@@ -28,8 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ArgumentTypeError, ExpressionError, SolverError
-from ..expr import parse_expression
+from blockmesh.errors import ArgumentTypeError, ExpressionError, SolverError
+from blockmesh.numerics.expr import parse_expression
 
 __all__ = ["Field", "free_vector_field", "scalar_field", "split_pair", "vector_field"]
 

@@ -27,11 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import polygon_diameter
-from .fields import Field
-from .polygons import PolygonMesh
-from .projections import Projections
-from .rules import cell_chunks, cell_rule, points_per_cell
+from blockmesh.geometry.polygons import polygon_diameter
+from blockmesh.vem.fields import Field
+from blockmesh.vem.polygons import PolygonMesh
+from blockmesh.vem.projections import Projections
+from blockmesh.vem.rules import cell_chunks, cell_rule, points_per_cell
 
 __all__ = ["ErrorNorms", "error_norms"]
 

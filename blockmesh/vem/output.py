@@ -38,11 +38,11 @@ from typing import Any
 
 import numpy as np
 
-from ..atomic import atomic_file, atomic_with_data
-from ..errors import ExportError
-from .elasticity import ElasticitySolution
-from .poisson import PoissonSolution
-from .polygons import PolygonMesh
+from blockmesh._system.atomic import atomic_file, atomic_with_data
+from blockmesh.errors import ExportError
+from blockmesh.vem.elasticity import ElasticitySolution
+from blockmesh.vem.poisson import PoissonSolution
+from blockmesh.vem.polygons import PolygonMesh
 
 __all__ = ["SOLUTION_FORMATS", "solution_fields", "write_solution"]
 

@@ -18,16 +18,18 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from ..plot import pyplot, save_figure
-from .elasticity import ElasticitySolution
-from .poisson import PoissonSolution
-from .polygons import PolygonMesh
+from blockmesh.plot import pyplot, save_figure
+from blockmesh.vem.adaptive import AdaptiveStep
+from blockmesh.vem.elasticity import ElasticitySolution
+from blockmesh.vem.poisson import PoissonSolution
+from blockmesh.vem.polygons import PolygonMesh
 
-__all__ = ["plot_solution"]
+__all__ = ["plot_convergence", "plot_solution"]
 
 
 def _fan(mesh: PolygonMesh) -> np.ndarray:
@@ -84,4 +86,37 @@ def plot_solution(
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_title(title or f"{heading}: {mesh.n_cells:,} cells, {solution.info.dof:,} unknowns")
+    return save_figure(fig, path)
+
+
+def plot_convergence(
+    history: Sequence[AdaptiveStep],
+    path: str | Path,
+    *,
+    title: str = "",
+    references: Sequence[tuple[str, Sequence[int], Sequence[float]]] = (),
+) -> Path:
+    """Error and estimator against unknowns (log-log) of an adaptive run, with a slope-1/2 line.
+
+    ``references`` adds other curves: ``(label, unknowns, errors)`` each (e.g. uniform
+    refinement).
+    """
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7, 5))
+    n = np.array([s.unknowns for s in history], dtype=float)
+    ax.loglog(n, [s.estimator for s in history], "o-", label="estimator")
+    if all(s.h1_error is not None for s in history):
+        ax.loglog(n, [s.h1_error for s in history], "s-", label="H1 error")
+        if all(s.l2_error is not None for s in history):
+            ax.loglog(n, [s.l2_error for s in history], "^-", label="L2 error")
+    for label, unknowns, errors in references:
+        ax.loglog(unknowns, errors, "--", label=label)
+    if n.size > 1:
+        anchor = history[-1].estimator
+        ax.loglog(n, anchor * (n / n[-1]) ** -0.5, "k:", label="N^(-1/2)")
+    ax.set_xlabel("unknowns N")
+    ax.set_ylabel("error")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    ax.set_title(title or f"adaptive refinement: {len(history)} steps")
     return save_figure(fig, path)

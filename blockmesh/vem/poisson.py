@@ -38,15 +38,21 @@ from typing import Any
 import numpy as np
 from scipy.sparse import csgraph
 
-from ..errors import ArgumentError, SolverError
-from .assembly import SolveInfo, assemble_matrix, assemble_vector, solve_system
-from .boundary import boundary_conditions
-from .fields import Field, scalar_field, vector_field
-from .norms import ErrorNorms, error_norms
-from .polygons import PolygonMesh, as_polygon_mesh
-from .projections import Projections, projections
-from .rules import cell_chunks, cell_rule, check_order, points_per_cell
-from .stabilization import check_scale, check_stabilization, stabilize
+from blockmesh.errors import ArgumentError, SolverError
+from blockmesh.vem.assembly import (
+    SolveInfo,
+    assemble_matrix,
+    assemble_vector,
+    ordering_for,
+    solve_system,
+)
+from blockmesh.vem.boundary import ProblemData, boundary_conditions
+from blockmesh.vem.fields import Field, scalar_field, vector_field
+from blockmesh.vem.norms import ErrorNorms, error_norms
+from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
+from blockmesh.vem.projections import Projections, projections
+from blockmesh.vem.rules import cell_chunks, cell_rule, check_order, points_per_cell
+from blockmesh.vem.stabilization import check_scale, check_stabilization, stabilize
 
 __all__ = ["CONSTRAINTS", "PoissonSolution", "solve_poisson"]
 
@@ -87,6 +93,7 @@ class PoissonSolution:
     _diffusion: Field
     _reaction: Field
     _order: int
+    _data: ProblemData | None = None
 
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
@@ -191,6 +198,9 @@ def solve_poisson(
         For a patch given both conditions, a problem without anything fixing the constant (no
         Dirichlet patch, no reaction, no constraint), incompatible pure Neumann data, or a failed
         solve.
+    ResourceError
+        When the direct solver's factorisation runs out of memory (its need is predicted by
+        :func:`blockmesh.memory.predict_solve_command`; ``solver="amg"`` needs far less).
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
@@ -218,7 +228,14 @@ def solve_poisson(
     fixed, values = bc.fixed(pm)
     constraints = _constraints(pm, matrix, fixed, c, constraint, rhs, dofs, means)
     u, info = solve_system(
-        matrix, rhs, fixed, values, solver=solver, tol=tol, constraints=constraints
+        matrix,
+        rhs,
+        fixed,
+        values,
+        solver=solver,
+        tol=tol,
+        constraints=constraints,
+        ordering=ordering_for(pm.cell_level),
     )
     gradient = np.empty((pm.n_cells, 2))
     value = np.empty(pm.n_cells)
@@ -239,6 +256,7 @@ def solve_poisson(
         kappa,
         c,
         order,
+        ProblemData((f,), bc, recipe, scale),
     )
 
 

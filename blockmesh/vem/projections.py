@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import signed_area
+from blockmesh.geometry.polygons import signed_area
 
 __all__ = ["Projections", "projections"]
 

@@ -24,8 +24,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..checks import choice
-from ..errors import ArgumentError
+from blockmesh.checks import choice
+from blockmesh.errors import ArgumentError
 
 __all__ = ["KirschSolution", "kirsch"]
 

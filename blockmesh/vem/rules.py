@@ -9,8 +9,8 @@ degree ``2 order - 1`` (the ``"jacobi"`` rule of :mod:`blockmesh.quadrature`).
 For pentagons the points come from :func:`blockmesh.quadrature_points` itself, on chunks of
 cells, grouped per cell by its layout (each cell's points are contiguous, cells in order). Cells
 of other sizes (triangles and quadrilaterals of other meshes) get the same construction from
-blockmesh's Gauss rules (:mod:`blockmesh.gauss`); the tests check that both give the same points
-and weights on pentagons. Boundary edges get Gauss-Legendre points.
+blockmesh's Gauss rules (:mod:`blockmesh.numerics.gauss`); the tests check that both give the same
+points and weights on pentagons. Boundary edges get Gauss-Legendre points.
 
 Examples
 --------
@@ -28,10 +28,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..checks import whole_number
-from ..gauss import gauss_jacobi, gauss_legendre
-from ..mesh import Mesh
-from ..quadrature import quadrature_points, rule_info
+from blockmesh.checks import whole_number
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.numerics.gauss import gauss_jacobi, gauss_legendre
+from blockmesh.quadrature import quadrature_points, rule_info
 
 __all__ = [
     "CHUNK_POINTS",

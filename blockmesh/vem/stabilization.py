@@ -20,7 +20,7 @@ changes anything there. ``"trace"`` is the default of both solvers: on the paper
 gave a 20 % smaller L2 error than ``"identity"`` at scale 1 on a smooth Poisson problem, and the
 same H1 error (which no recipe or scale changes by more than a few per cent); a smaller scale
 makes the lowest-order elements less stiff (Cook's membrane converges faster with 0.3 than with
-1). The measurements are in the README ("Solving with virtual elements") and
+1). The measurements are in the documentation (``docs/solving.md``, "Stabilisation") and
 ``benchmarks/bench_accuracy.py``.
 
 Examples
@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..checks import choice
-from ..errors import ArgumentError
+from blockmesh.checks import choice
+from blockmesh.errors import ArgumentError
 
 __all__ = ["STABILIZATIONS", "check_scale", "check_stabilization", "stabilize"]
 

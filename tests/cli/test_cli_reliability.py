@@ -237,7 +237,7 @@ def test_first_hour_small_things(capsys):
     with pytest.raises(SystemExit):
         run_cli(capsys, "mesh", "--help")
     help_text = " ".join(capsys.readouterr().out.split())
-    assert "--level L, -l L refinement level: every block becomes 6**L pentagons (default 2)" in (
+    assert "--level L, -l L refinement level: every block becomes 6**L pentagons (default 2;" in (
         help_text
     )
     mesh = blockmesh.load_domain("l-shape").mesh(3)

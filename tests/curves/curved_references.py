@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-from blockmesh.exact import exact_integral
+from blockmesh.quadrature.exact import exact_integral
 
 
 def disc_moment(a: int, b: int, radius: float, absolute: bool = False) -> float:

@@ -11,7 +11,7 @@
 - the channel behind the cylinder: rectangles of the quadrilateral template, turned so that its
   sides with one node face each other (the nodes meet at mid-height);
 - ``disc``: a central pentagon, five pentagons around it and five on the circle, one arc each
-  (:func:`blockmesh.curved_polygons.disc_layout`, which ``Domain.from_circle`` uses too).
+  (:func:`blockmesh.domain.curved_polygons.disc_layout`, which ``Domain.from_circle`` uses too).
 
 The free parameters (the ring's radii, the template's inner nodes) maximise the smallest angle of
 the curved refinement at a few levels; ``--optimise`` searches them again (Nelder-Mead) and
@@ -28,12 +28,12 @@ from pathlib import Path
 
 import numpy as np
 
-from blockmesh.curved_polygons import disc_layout
-from blockmesh.curved_refinement import curved_block_levels
 from blockmesh.decompose.templates import SQUARE_FACES as _SQUARE_FACES
 from blockmesh.decompose.templates import SQUARE_NODES as _SQUARE_NODES
+from blockmesh.domain.curved_polygons import disc_layout
 from blockmesh.geometry import interior_angles
-from blockmesh.template import pentagon_template
+from blockmesh.refinement.curved import curved_block_levels
+from blockmesh.refinement.template import pentagon_template
 
 DOMAINS = Path(__file__).resolve().parents[2] / "domains"
 
@@ -330,7 +330,7 @@ def cylinder_channel(fractions=(0.35, 0.35)) -> Layout:
 
 
 def disc(radii=(0.25, 0.43, 0.7)) -> Layout:
-    """The unit disc: :func:`blockmesh.curved_polygons.disc_layout` (11 blocks, 5 arcs)."""
+    """The unit disc: :func:`blockmesh.domain.curved_polygons.disc_layout` (11 blocks, 5 arcs)."""
     vertices, blocks, arcs, boundary = disc_layout((0.0, 0.0), 1.0, radii)
     layout = Layout()
     layout.vertices = list(vertices)

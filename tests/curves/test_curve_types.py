@@ -7,10 +7,12 @@ import math
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from blockmesh.curves import Arc, CurvedEdges, Polyline, Spline, curve_from_fields
+from blockmesh.curves import Arc, Polyline, Spline, curve_from_fields
+from blockmesh.curves.edges import CurvedEdges
 from blockmesh.errors import ArgumentError, DomainError, DomainFormatError
 
 T = np.linspace(0, 1, 41)
@@ -174,7 +176,7 @@ def test_curved_edges_table_checks_itself_and_renumbers():
     assert table.distances(np.array([[1.0, 0.0], [0.0, 1.0]])).tolist() == [0.0]
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60))
 @given(
     st.floats(-3, 3), st.floats(-3, 3), st.floats(0.1, 3), st.floats(0.05, 3.0),
     st.floats(0, 2 * math.pi), st.booleans(),

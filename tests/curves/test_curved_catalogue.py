@@ -12,8 +12,8 @@ from helpers import CURVED_CATALOGUE
 import blockmesh
 from blockmesh.curves import Arc
 from blockmesh.geometry import is_strictly_convex
-from blockmesh.refinement import predict_size
-from blockmesh.topology import edge_keys
+from blockmesh.geometry.topology import edge_keys
+from blockmesh.refinement.sizes import predict_size
 
 LEVELS = [*range(6), pytest.param(6, marks=pytest.mark.slow)]
 

@@ -14,10 +14,10 @@ from helpers import run_cli
 
 import blockmesh
 from blockmesh import Domain
-from blockmesh.curved_quadrature import along_points, curved_cells
 from blockmesh.curves import Arc, Polyline, Spline
 from blockmesh.errors import ArgumentTypeError, ExpressionError
 from blockmesh.quadrature import RULES, integrate_cells
+from blockmesh.quadrature.curved import along_points, curved_cells
 
 MONOMIALS = [(a, b) for a in range(9) for b in range(9 - a)]  # every degree up to 8
 EXACT_DOMAINS = ["plate-hole", "disc", "annulus"]
@@ -156,6 +156,14 @@ def test_cli_integrates_over_the_exact_geometry(capsys):
 
 
 def test_cli_says_when_there_is_no_curve_to_follow(capsys, tmp_path):
+    path = blockmesh.write(blockmesh.load_domain("disc").mesh(1), tmp_path / "disc.msh")
+    code, out, err = run_cli(capsys, "integrate", str(path), "-f", "1", "--exact-geometry")
+    assert code == 0 and "no curved edges here" in out and ".npz" in out
+    assert "refining it further puts the new nodes on straight edges" in err
+
+
+def test_a_saved_npz_keeps_its_curves_for_exact_geometry(capsys, tmp_path):
     path = blockmesh.write(blockmesh.load_domain("disc").mesh(1), tmp_path / "disc.npz")
-    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "1", "--exact-geometry")
-    assert code == 0 and "no curved edges here" in out
+    code, out, err = run_cli(capsys, "integrate", str(path), "-f", "1", "--exact-geometry")
+    assert code == 0 and "the curved cells (exact geometry)" in out, err
+    assert abs(float(out.split("value")[1].split()[0]) - np.pi) < 1e-12

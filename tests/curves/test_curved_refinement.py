@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import USP
+from helpers import USP, examples
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 import blockmesh
-import blockmesh.grouped_refinement
+import blockmesh.refinement.grouped
 from blockmesh import Domain
 from blockmesh.curves import Arc, Spline
 from blockmesh.errors import DomainError
@@ -78,7 +78,7 @@ def _two_pass(base, level):
     place_on_curves (what refine did before the curve-aware rule ran in the same pass)."""
     import dataclasses
 
-    from blockmesh.curved_refinement import place_on_curves
+    from blockmesh.refinement.curved import place_on_curves
 
     straight = blockmesh.refine(dataclasses.replace(base, curves=None), level)
     return place_on_curves(base, straight, level)
@@ -90,7 +90,7 @@ def test_one_pass_equals_the_straight_refinement_then_place_on_curves(
     name, level, block_level, monkeypatch
 ):
     # block_level 2: level 4 first refines the base 2 levels, then its cells as blocks.
-    monkeypatch.setattr(blockmesh.grouped_refinement, "BLOCK_LEVEL", block_level)
+    monkeypatch.setattr(blockmesh.refinement.grouped, "BLOCK_LEVEL", block_level)
     # Every bit is compared (tobytes: also the sign of zeros), and refining a refined mesh too.
     base = blockmesh.load_domain(name).block_mesh()
     for start in (base, blockmesh.refine(base, 1)):
@@ -152,7 +152,7 @@ def pentagons_with_arcs(draw):
     return points, [r if c else None for r, c in zip(ratios, curved, strict=True)]
 
 
-@settings(max_examples=80, deadline=None)
+@settings(max_examples=examples(80))
 @given(pentagons_with_arcs())
 def test_random_blocks_with_random_arcs_refine_or_are_refused_up_front(case):
     points, ratios = case

@@ -13,11 +13,13 @@ import math
 import numpy as np
 import pytest
 import shapely
+from helpers import examples
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from blockmesh.decompose import Decomposition, decompose_convex_polygon, templates
-from blockmesh.decompose import convex as decompose
+import blockmesh.decompose.convex as decompose
+import blockmesh.decompose.templates as templates
+from blockmesh.decompose import Decomposition, decompose_convex_polygon
 from blockmesh.errors import DomainError
 from blockmesh.geometry import (
     corner_sines,
@@ -162,17 +164,20 @@ def thin_quads(draw: st.DrawFn) -> np.ndarray:
 # --- properties ---------------------------------------------------------------------------
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200))
 @given(ellipse_polygons())
 def test_random_convex_polygons_split_conformingly(polygon: np.ndarray) -> None:
     if len(polygon) <= 4:
         # Templates need a little room: a corner of sine 1e-12 (the contract's limit) can leave
         # template corners below it (see test_too_thin_polygon_raises).
         assume(corner_sines(polygon).min() > 1e-10)
+    # Called directly, the exact layouts work in the polygon's own coordinates: a polygon a
+    # millionth of its distance from the origin across is left to decompose_polygon, which
+    # moves it to a local frame first (a sliver triangle at (0.54, 0.84), 1e-9 across, failed).
+    assume(polygon_diameter(polygon) > 1e-6 * np.abs(polygon).max())
     assert_valid(polygon, decompose_convex_polygon(polygon))
 
 
-@settings(max_examples=100, deadline=None)
 @given(ellipse_polygons(6, 16))
 def test_star_kept_only_when_better(polygon: np.ndarray) -> None:
     d = decompose_convex_polygon(polygon)
@@ -193,7 +198,7 @@ def test_star_kept_only_when_better(polygon: np.ndarray) -> None:
         assert np.minimum(theta, 180 - theta).min() == star.score
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=examples(150))
 @given(st.one_of(thin_triangles(), thin_quads()))
 def test_near_degenerate_triangles_and_quads(polygon: np.ndarray) -> None:
     assert_valid(polygon, decompose_convex_polygon(polygon))

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 import shapely
-from helpers import assert_blocks_tile, polygon_with_holes, run_cli
+from helpers import assert_blocks_tile, examples, polygon_with_holes, run_cli
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -40,7 +40,7 @@ def assert_valid_blocks(domain: Domain) -> None:
     assert np.all(is_strictly_convex(local[domain.blocks]))
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(25), suppress_health_check=[HealthCheck.too_slow])
 @given(polygon_with_holes(n_max=20, holes_max=2), MOVES)
 def test_moved_and_scaled_polygons_keep_their_verdict(case, move):
     outer, holes = case
@@ -63,7 +63,7 @@ def test_moved_and_scaled_polygons_keep_their_verdict(case, move):
     assert area == pytest.approx(here.area * 100.0 ** move[2], rel=1e-3)
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30))
 @given(st.sampled_from(["square-cut", "l-shape", "ring", "joined-8", "hexagon"]), MOVES)
 def test_moved_and_scaled_block_domains_stay_valid(name, move):
     domain = blockmesh.load_domain(name)
@@ -75,7 +75,7 @@ def test_moved_and_scaled_block_domains_stay_valid(name, move):
     assert there.patch_names == domain.patch_names
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30))
 @given(
     st.sampled_from(["sp", "square-cut", "l-shape", "ring", "hexagon"]), MOVES, st.integers(0, 4)
 )
@@ -102,7 +102,7 @@ def test_moved_and_scaled_domains_refine_to_valid_meshes(name, move, level):
     assert quality.not_strictly_convex == 0 and 0 < quality.min_angle <= quality.max_angle < 180
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30))
 @given(MOVES)
 def test_invalid_domains_stay_invalid_wherever_they_sit(move):
     crossing = [(0, 0), (2, 0), (0, 2), (2, 2)]
@@ -133,7 +133,7 @@ def test_reproducers_pass_blockmesh_check(capsys, polygon):
     assert "valid" in out
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30))
 @given(
     st.floats(0, 9),  # log10 of the aspect ratio
     st.floats(-2, 3),  # where the apex sits along the base (triangles), or the top's skew

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from helpers import examples
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -25,7 +26,7 @@ def jittered_grid(seed_values):
     return points, np.array(triangles)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40))
 @given(st.lists(st.floats(-1, 1), min_size=8, max_size=8))
 def test_moves_never_make_any_block_worse_or_non_convex(jitter):
     points, triangles = jittered_grid(jitter)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from blockmesh.decompose.merge import pair_triangles
@@ -31,7 +31,6 @@ def test_edge_fractions_are_symmetric():
 
 
 @given(st.lists(st.tuples(st.floats(-5, 5), st.floats(-5, 5)), min_size=3, max_size=3))
-@settings(max_examples=100, deadline=None)
 def test_the_ring_and_hub_triangle_is_the_triangle_template(points):
     triangle = np.array(points)
     area = signed_area(triangle)

@@ -5,12 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from helpers import polygon_with_holes
+from helpers import examples, polygon_with_holes
 from hypothesis import HealthCheck, given, settings
 
 from blockmesh.decompose.triangulate import triangulate
+from blockmesh.domain.validate import check_rings
+from blockmesh.errors import ResourceError
 from blockmesh.geometry import interior_angles, local_frame, signed_area
-from blockmesh.validate import check_rings
 
 
 def rings_of(outer, holes):
@@ -49,7 +50,7 @@ def assert_triangulates(t, rings):
         assert np.all(np.abs(cross) <= 1e-12 * np.hypot(*(b - a).T))
 
 
-@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(30), suppress_health_check=[HealthCheck.too_slow])
 @given(polygon_with_holes(n_max=120))
 def test_random_polygons_triangulate(case):
     rings = rings_of(*case)
@@ -90,3 +91,14 @@ def test_budget_bounds_the_points_added():
     ring = rings_of(np.column_stack([np.cos(t), np.sin(t) * 0.05]), [])
     for budget in (0, 10, 100):
         assert triangulate(ring, max_points=budget).points.shape[0] <= 400 + budget
+
+
+def test_a_shapely_without_constrained_delaunay_is_named_in_the_error(monkeypatch):
+    # shapely 2.0 has no constrained_delaunay_triangles (2.1 does): a decomposed catalogue domain
+    # then failed with an AttributeError from inside the decomposition.
+    import blockmesh
+
+    monkeypatch.delattr(shapely, "constrained_delaunay_triangles")
+    monkeypatch.setattr(shapely, "__version__", "2.0.7")
+    with pytest.raises(ResourceError, match=r"needs shapely >= 2\.1 .* this is shapely 2\.0\.7"):
+        blockmesh.load_domain("backward-step")

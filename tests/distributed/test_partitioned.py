@@ -219,3 +219,17 @@ def test_partitioned_exact_geometry_integral_is_the_serial_one(client, name):
         assert parts == pytest.approx(serial, rel=1e-14)
     with pytest.raises(blockmesh.errors.ArgumentTypeError, match="exact_geometry must be"):
         bd.integrate(domain, "1", order=1, level=1, client=client, exact_geometry="yes")
+
+
+def test_distributed_integrate_takes_f_as_blockmesh_integrate_does(client):
+    """blockmesh.integrate(target, f=...) but blockmesh.distributed.integrate(target,
+    function=...): the same call with f= raised TypeError (issue 22)."""
+    domain = blockmesh.load_domain("sp")
+    serial = blockmesh.integrate(domain, f="x*x + 1", order=2, level=2)
+    value = bd.integrate(domain, f="x*x + 1", order=2, level=2, partitions=2, client=client)
+    assert value == pytest.approx(serial, rel=1e-14)
+    with pytest.warns(DeprecationWarning, match="f="):
+        old = bd.integrate(domain, function="x*x + 1", order=2, level=2, client=client)
+    assert old == pytest.approx(serial, rel=1e-14)
+    with pytest.raises(blockmesh.ArgumentError, match="got both f and its earlier name function"):
+        bd.integrate_with_estimate(domain, "1", function="1", order=2, client=client)

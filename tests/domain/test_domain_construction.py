@@ -11,13 +11,7 @@ import shapely
 from helpers import SP, TWO_BLOCKS, TWO_VERTICES
 
 import blockmesh
-from blockmesh import (
-    BlockMeshWarning,
-    Domain,
-    DomainError,
-    DomainFormatError,
-    TopologyError,
-)
+from blockmesh import BlockMeshWarning, Domain, DomainError, DomainFormatError, TopologyError
 
 
 # ----------------------------------------------------------------------------- polygon input

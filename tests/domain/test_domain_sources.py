@@ -12,13 +12,7 @@ import shapely
 from helpers import assert_blocks_tile, assert_patches_follow_edges, run_cli
 
 import blockmesh
-from blockmesh import (
-    ArgumentTypeError,
-    BlockMeshWarning,
-    Domain,
-    DomainError,
-    DomainFormatError,
-)
+from blockmesh import ArgumentTypeError, BlockMeshWarning, Domain, DomainError, DomainFormatError
 
 PLATE = [(0, 0), (4, 0), (4, 2), (0, 2)]
 HOLE = [(1.5, 0.5), (2.5, 0.5), (2.5, 1.5), (1.5, 1.5)]

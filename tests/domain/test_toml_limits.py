@@ -14,12 +14,14 @@ import threading
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import blockmesh
-from blockmesh import BlockMeshError, Domain, DomainError, DomainFormatError, ResourceError, tomlio
-from blockmesh.decompose import polygon as polygon_route
+import blockmesh.decompose.polygon as polygon_route
+import blockmesh.domain.tomlio as tomlio
+from blockmesh import BlockMeshError, Domain, DomainError, DomainFormatError, ResourceError
 
 
 @pytest.mark.parametrize(
@@ -185,7 +187,7 @@ def documents(draw):
     return "\n".join(lines)
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(300), suppress_health_check=[HealthCheck.too_slow])
 @given(documents())
 def test_fuzzed_domain_text_raises_only_blockmesh_errors(text):
     with contextlib.suppress(BlockMeshError):

@@ -22,7 +22,7 @@ from helpers_hostile import assert_refused, listing, run_blockmesh
 
 import blockmesh
 import blockmesh.distributed as bd
-from blockmesh.atomic import atomic_with_folder
+from blockmesh._system.atomic import atomic_with_folder
 from blockmesh.errors import ExportError
 
 FILE_FORMATS = [".vtu", ".vtk", ".xdmf", ".msh", ".mat", ".npz"]
@@ -190,7 +190,7 @@ def test_a_partitioned_write_commits_whole_and_cleans_up(tmp_path):
 
 
 def _host() -> str:
-    from blockmesh.atomic import _HOST
+    from blockmesh._system.atomic import _HOST
 
     return _HOST
 

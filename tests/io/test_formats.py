@@ -29,10 +29,10 @@ from helpers_io import (
     target,
 )
 
+import blockmesh._system.atomic as atomic
 import blockmesh.io as bio
-from blockmesh import atomic
+import blockmesh.io.text as text
 from blockmesh.errors import BlockMeshError, ExportError
-from blockmesh.io import text
 from blockmesh.mesh import Mesh
 
 FORMAT_NAMES = list(bio.FORMATS)
@@ -244,13 +244,13 @@ def test_failed_commit_keeps_old_output(
 def _breaking_points() -> list[tuple[str, str, str]]:
     """(format, object to break, attribute) per file format: a failure in the middle."""
     return [
-        ("vtu", "blockmesh.io.vtu", "_insert_field_data"),
-        ("vtk", "blockmesh.io.legacy_vtk", "_field_block"),
-        ("xdmf", "blockmesh.io.xdmf", "_xdmf_tree"),
-        ("msh", "blockmesh.io.msh_writer", "_write_blocks"),
+        ("vtu", "blockmesh.io.vtu.writer", "_write_raw"),
+        ("vtk", "blockmesh.io.vtk.format", "_field_block"),
+        ("xdmf", "blockmesh.io.xdmf.format", "_xdmf_tree"),
+        ("msh", "blockmesh.io.msh.writer", "_write_blocks"),
         ("mat", "scipy.io", "savemat"),
         ("npz", "numpy", "savez"),
-        ("openfoam", "blockmesh.io.openfoam_writer", "_write_polymesh"),
+        ("openfoam", "blockmesh.io.openfoam.writer", "_write_polymesh"),
     ]
 
 
@@ -422,7 +422,7 @@ def test_a_real_full_disk(full_disk: Path, name: str) -> None:
 def test_no_space_in_a_picture_a_table_and_a_domain_file(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Everything that writes through blockmesh.atomic gets the same readable error."""
+    """Everything that writes through blockmesh._system.atomic gets the same readable error."""
     import blockmesh
     from blockmesh.plot import plot_mesh
 
@@ -453,7 +453,7 @@ def test_no_space_on_the_command_line(
     for argv in (
         ["mesh", "sp", "--level", "1", "-o", str(tmp_path / "m.vtu")],
         ["mesh", "sp", "--level", "1", "--plot", str(tmp_path / "m.png")],
-        ["tables", "--csv", str(tmp_path / "t.csv")],
+        ["tables", "--table", "1", "--levels", "1", "--csv", str(tmp_path / "t.csv")],
     ):
         code, _, err = run_cli(capsys, *argv)
         assert code == 2, err

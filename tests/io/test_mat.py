@@ -9,7 +9,7 @@ import pytest
 from helpers_io import assert_same, tagged
 
 import blockmesh.io as bio
-from blockmesh.io.mat import matlab_name
+from blockmesh.io.mat.format import matlab_name
 from blockmesh.mesh import Mesh
 
 
@@ -65,7 +65,7 @@ def test_struct_field_names() -> None:
 def test_element_is_read_without_scipy(mesh: Mesh, tmp_path: Path, compression: str) -> None:
     """The Element cell array of blockmesh's files is read in chunks, not by scipy (30 s at
     level 8): the fast path must recognise both layouts."""
-    from blockmesh.io import mat
+    import blockmesh.io.mat.format as mat
 
     path = bio.write(mesh, tmp_path / "m.mat", compression=compression)
     cells = mat._element_cells(path)

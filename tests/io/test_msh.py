@@ -10,8 +10,8 @@ import pytest
 from helpers_io import assert_same, gmsh_summary, sp_mesh, tagged
 
 import blockmesh.io as bio
+import blockmesh.io.msh.reader as msh_reader
 from blockmesh.errors import ExportError
-from blockmesh.io import msh_reader
 from blockmesh.mesh import Mesh
 
 

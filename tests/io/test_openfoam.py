@@ -19,9 +19,10 @@ from helpers_io import find_checkmesh, foam_tool, listing, patch_atomic_os, snap
 
 import blockmesh
 import blockmesh.io as bio
+import blockmesh.io.openfoam.writer as openfoam_writer
+import blockmesh.io.text as text
 from blockmesh.errors import ExportError, TopologyError
-from blockmesh.io import openfoam_writer, text
-from blockmesh.io.openfoam_reader import foam_file, read_boundary, read_faces, read_list
+from blockmesh.io.openfoam.reader import foam_file, read_boundary, read_faces, read_list
 from blockmesh.mesh import Mesh
 
 
@@ -234,7 +235,7 @@ def test_failure_at_the_swap_keeps_the_old_mesh(
 ) -> None:
     import os
 
-    from blockmesh import atomic
+    import blockmesh._system.atomic as atomic
 
     bio.write(two_block(0), tmp_path / "c", format="openfoam")
     before = snapshot(tmp_path)
@@ -262,7 +263,7 @@ KILLED = """
 import os, sys
 sys.path.insert(0, {tests!r})
 import blockmesh.io as bio
-from blockmesh import atomic
+from blockmesh._system import atomic
 from helpers_io import two_block
 if {two_renames}:
     atomic._exchange = lambda a, b: False

@@ -6,21 +6,22 @@ import io
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import blockmesh.io.text as text
 from blockmesh.errors import ExportError
-from blockmesh.io import text
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60))
 @given(st.lists(st.integers(-(2**62), 2**62), min_size=1, max_size=40))
 def test_int_bytes_matches_str(values: list[int]) -> None:
     rows = text.int_bytes(np.array(values, dtype=np.int64))
     assert [bytes(r[r != 0]).decode() for r in rows] == [str(v) for v in values]
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60))
 @given(st.lists(st.floats(allow_nan=False, allow_infinity=False), min_size=1, max_size=40))
 def test_float_bytes_round_trips_exactly(values: list[float]) -> None:
     x = np.array(values, dtype=np.float64)
@@ -36,7 +37,7 @@ def test_write_rows_layout() -> None:
     assert buf.getvalue() == b"4(1 22 333 0) 5e-1\n"
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40))
 @given(
     st.lists(st.floats(allow_nan=False, allow_infinity=False), min_size=1, max_size=60),
     st.integers(1, 64),

@@ -9,8 +9,9 @@ import pytest
 from helpers_io import assert_same, expected_names, paraview_names, tagged, vtk_connectivity
 
 import blockmesh.io as bio
+import blockmesh.io.vtk.format as legacy_vtk
+import blockmesh.io.vtk.stream as vtk_stream
 from blockmesh.errors import ExportError
-from blockmesh.io import legacy_vtk, vtk_stream
 from blockmesh.mesh import Mesh
 
 

@@ -117,7 +117,7 @@ def test_paraview_shows_the_names(mesh: Mesh, tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("how", ["./m.xdmf", "absolute"])
 def test_paraview_opens_it_as_the_readme_says(mesh: Mesh, tmp_path: Path, how: str) -> None:
-    """ParaView's XDMF 3 reader with a path that names the folder (the README's advice)."""
+    """ParaView's XDMF 3 reader with a path that names the folder (the export page's advice)."""
     bio.write(mesh, tmp_path / "m.xdmf")
     name = str(tmp_path / "m.xdmf") if how == "absolute" else how
     script = (
@@ -247,7 +247,7 @@ KILLED = """
 import os, sys
 sys.path.insert(0, {tests!r})
 import blockmesh.io as bio
-from blockmesh import atomic
+from blockmesh._system import atomic
 from helpers_io import tagged
 real, calls = os.replace, []
 def replace(src, dst):

@@ -9,9 +9,9 @@ import pytest
 
 import blockmesh
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
-from blockmesh.exact import exact_integral
 from blockmesh.mesh import Mesh
 from blockmesh.quadrature import RULES, integrate_to_tolerance
+from blockmesh.quadrature.exact import exact_integral
 from blockmesh.tables import PENTAGONS
 
 SP = np.array(PENTAGONS["SP"], dtype=float)

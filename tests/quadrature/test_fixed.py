@@ -160,7 +160,7 @@ def test_exact_polynomials_are_not_flagged_at_any_order(order):
 def test_the_estimate_bounds_the_error_on_the_papers_integrands():
     """Against the high-precision references, over the 22 cases at levels 1-3, orders 2-20.
 
-    The estimate is >= the error (or both are at round-off, 1e-15 x ∫|f|) for every smooth
+    The estimate is >= the error (or both are at round-off, 2e-15 x ∫|f|) for every smooth
     integrand; for Table 8's cone sqrt((x-0.5)^2 + (y-0.5)^2), whose errors fall slowly with the
     order, it may fall short, but by less than a factor 2.
     """
@@ -173,7 +173,10 @@ def test_the_estimate_bounds_the_error_on_the_papers_integrands():
                     warnings.simplefilter("ignore", BlockMeshWarning)
                     result = integrate_with_estimate(mesh, case.integrand, order=order)
                 error = float(abs(Fraction(result.value) - case.exact))
-                floor = 1e-15 * case.abs_integral
+                # Round-off: 9 units in the last place (the sums' rounding differs between
+                # numpy versions: Table 6, USP, level 2, order 20 is 0.97e-15 with numpy 2.4 and
+                # 1.19e-15 with numpy 1.26).
+                floor = 2e-15 * case.abs_integral
                 allowed = 2 * result.error_estimate if case.table == 8 else result.error_estimate
                 if error > max(allowed, floor):
                     misses.append((case.table, case.pentagon, level, order, error))

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from blockmesh.errors import ArgumentTypeError, ExpressionError
-from blockmesh.gauss import gauss_legendre
 from blockmesh.mesh import Mesh
+from blockmesh.numerics.gauss import gauss_legendre
 from blockmesh.quadrature import integrate, integrate_cells, rule_info
 from blockmesh.refinement import refine
 from blockmesh.tables import PENTAGONS

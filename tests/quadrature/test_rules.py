@@ -6,20 +6,14 @@ import math
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from blockmesh.errors import ArgumentTypeError, UnknownNameError
-from blockmesh.exact import exact_integral
 from blockmesh.mesh import Mesh
-from blockmesh.quadrature import (
-    RULES,
-    Rule,
-    get_rule,
-    integrate,
-    quadrature_points,
-    rule_info,
-)
+from blockmesh.quadrature import RULES, Rule, get_rule, integrate, quadrature_points, rule_info
+from blockmesh.quadrature.exact import exact_integral
 from blockmesh.quadrature.layouts import CENTRE
 from blockmesh.quadrature.paper import RULE as PAPER
 from blockmesh.tables import PENTAGONS
@@ -65,7 +59,7 @@ def _monomial_errors(points, rule: str, n: int, degree: int):
     return worst
 
 
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=examples(20))
 @given(convex_pentagons(), st.sampled_from(tuple(RULES)))
 def test_every_monomial_up_to_degree_2n_minus_1_is_exact(points, rule):
     for n in range(1, 9):

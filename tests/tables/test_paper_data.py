@@ -7,8 +7,8 @@ from fractions import Fraction
 import pytest
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError, UnknownNameError
-from blockmesh.exact import exact_integral
 from blockmesh.quadrature import integrate
+from blockmesh.quadrature.exact import exact_integral
 from blockmesh.tables import (
     CASES,
     ERRATA,

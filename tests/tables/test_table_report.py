@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import csv
 
-from blockmesh.plot_tables import plot_convergence
 from blockmesh.tables import PENTAGONS, compute_table, format_table, write_csv
+from blockmesh.tables.plot import plot_convergence
 
 
 def test_format_table_has_the_paper_layout():

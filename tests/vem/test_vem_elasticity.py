@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blockmesh
-from blockmesh.catalogue import catalogue_names
+from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.errors import ArgumentError, SolverError, UnknownNameError
 from blockmesh.geometry import signed_area
 from blockmesh.vem import PolygonMesh, elasticity_matrix, solve_elasticity
@@ -39,7 +39,7 @@ def test_linear_displacement_is_reproduced_on_every_catalogue_domain(name, plane
         young=3.0,
         poisson=0.3,
         plane=plane,
-        displacement={p: (UX, UY) for p in mesh.patch_names},
+        dirichlet={p: (UX, UY) for p in mesh.patch_names},
     )
     scale = 1 + np.abs(mesh.points).max()
     assert np.abs(sol.displacement - _linear(mesh.points)).max() < 1e-12 * scale
@@ -58,8 +58,8 @@ def test_traction_patch_test_with_rollers(recipe):
         mesh,
         young=2.0,
         poisson=0.25,
-        displacement={"left": (ux, "free"), "bottom": ("free", uy)},
-        traction={"right": (sxx, sxy), "top": (sxy, syy)},  # sigma n on x = 1 and y = 1
+        dirichlet={"left": (ux, "free"), "bottom": ("free", uy)},
+        neumann={"right": (sxx, sxy), "top": (sxy, syy)},  # sigma n on x = 1 and y = 1
         stabilization=recipe,
     )
     x, y = mesh.points.T
@@ -95,9 +95,9 @@ def test_vem_on_triangles_is_p1_finite_elements_to_round_off():
         young=young,
         poisson=nu,
         plane="strain",
-        body_force=("x*y", "-1 + x"),
-        displacement={"left": ("0", "0.01*y")},
-        traction={"right": ("1 + y", "0.5")},
+        source=("x*y", "-1 + x"),
+        dirichlet={"left": ("0", "0.01*y")},
+        neumann={"right": ("1 + y", "0.5")},
         order=3,
     )
     element = skfem.ElementVector(skfem.ElementTriP1())
@@ -137,8 +137,8 @@ def test_cooks_membrane_converges_to_the_reference_from_below():
             domain.mesh(level),
             young=1.0,
             poisson=1 / 3,
-            displacement={"clamped": (0, 0)},
-            traction={"loaded": (0, 1 / 16)},  # a shear load of 1 spread over the 16-long edge
+            dirichlet={"clamped": (0, 0)},
+            neumann={"loaded": (0, 1 / 16)},  # a shear load of 1 spread over the 16-long edge
         )
         tips.append(boundary_values(sol.mesh, sol.displacement, [(48, 52)])[0, 1])
     assert tips[0] < tips[1] < tips[2] < COOK_REFERENCE
@@ -167,8 +167,8 @@ def test_manufactured_displacement_converges_at_the_expected_rates():
             mesh,
             young=young,
             poisson=nu,
-            body_force=tuple(as_function),
-            displacement={p: (0, 0) for p in mesh.patch_names},
+            source=tuple(as_function),
+            dirichlet={p: (0, 0) for p in mesh.patch_names},
         )
         e = sol.errors(tuple(exact), tuple(tuple(g) for g in gradient))
         dof.append(sol.info.dof)
@@ -186,9 +186,9 @@ def test_manufactured_displacement_converges_at_the_expected_rates():
 def test_free_rigid_motions_are_named():
     mesh = blockmesh.load_domain("square").mesh(1)
     with pytest.raises(SolverError, match=r"leave 3 rigid motion\(s\) free"):
-        solve_elasticity(mesh, young=1, poisson=0.3, traction={"right": (1, 0)})
+        solve_elasticity(mesh, young=1, poisson=0.3, neumann={"right": (1, 0)})
     with pytest.raises(SolverError, match=r"leave 1 rigid motion\(s\) free \(translation in x\)"):
-        solve_elasticity(mesh, young=1, poisson=0.3, displacement={"bottom": ("free", 0)})
+        solve_elasticity(mesh, young=1, poisson=0.3, dirichlet={"bottom": ("free", 0)})
 
 
 def test_rigid_constraint_with_balanced_loads():
@@ -197,14 +197,14 @@ def test_rigid_constraint_with_balanced_loads():
         mesh,
         young=2.0,
         poisson=0.3,
-        traction={"right": (1, 0), "left": (-1, 0)},
+        neumann={"right": (1, 0), "left": (-1, 0)},
         constraint="rigid",
     )
     assert np.abs(sol.stress - [1.0, 0.0, 0.0]).max() < 1e-12
     assert np.abs(sol.displacement.mean(axis=0)).max() < 1e-14
     with pytest.raises(SolverError, match="the loads do not balance"):
         solve_elasticity(
-            mesh, young=2.0, poisson=0.3, traction={"right": (1, 0)}, constraint="rigid"
+            mesh, young=2.0, poisson=0.3, neumann={"right": (1, 0)}, constraint="rigid"
         )
 
 
@@ -217,15 +217,16 @@ def test_rigid_constraint_with_balanced_loads():
         ({"plane": "membrane"}, ArgumentError, "unknown plane 'membrane'; choose one of"),
         ({"stabilization": "identity"}, ArgumentError, "choose one of: trace, diagonal"),
         ({"constraint": "mean"}, ArgumentError, "unknown constraint 'mean'; choose one of: rigid"),
-        ({"displacement": {"inlet": (0, 0)}}, UnknownNameError, "no patch 'inlet'"),
-        ({"traction": {"left": (0, 1)}}, SolverError, "patch 'left' is given both"),
-        ({"traction": {"right": "1"}}, Exception, "must be two expressions separated by a comma"),
-        ({"displacement": {"left": "free, free"}}, SolverError, "both components are free"),
+        ({"dirichlet": {"inlet": (0, 0)}}, UnknownNameError, "no patch 'inlet'"),
+        ({"neumann": {"left": (0, 1)}}, SolverError, "patch 'left' is given both"),
+        ({"neumann": {"right": "1"}}, Exception, "must be two expressions separated by a comma"),
+        ({"dirichlet": {"left": "free, free"}}, SolverError, "both components are free"),
+        ({"displacement": {"left": (0, 0)}}, ArgumentError, "both dirichlet and its earlier name"),
     ],
 )
 def test_bad_input_is_rejected_clearly(options, error, match):
     mesh = blockmesh.load_domain("square").mesh(1)
-    arguments = {"young": 1.0, "poisson": 0.3, "displacement": {"left": (0, 0)}, **options}
+    arguments = {"young": 1.0, "poisson": 0.3, "dirichlet": {"left": (0, 0)}, **options}
     with pytest.raises(error, match=match):
         solve_elasticity(mesh, **arguments)
 
@@ -273,8 +274,8 @@ def test_kirsch_plate_converges_to_the_exact_field_and_stress_concentration():
             mesh,
             young=1.0,
             poisson=0.3,
-            displacement={"left": (0, "free"), "down": ("free", 0)},
-            traction={"right": (sxx, sxy), "up": (sxy, syy)},
+            dirichlet={"left": (0, "free"), "down": ("free", 0)},
+            neumann={"right": (sxx, sxy), "up": (sxy, syy)},
         )
         e = sol.errors(k.displacement)
         top = np.flatnonzero(np.all(np.isclose(mesh.points, [0.0, 0.5], atol=1e-12), axis=1))
@@ -293,3 +294,25 @@ def test_kirsch_plate_converges_to_the_exact_field_and_stress_concentration():
     ratios = gaps[1:] / gaps[:-1]
     assert np.all(gaps > 0) and np.all((ratios > 0.45) & (ratios < 0.6)), ratios
     assert abs(2 * peak[-1] - peak[-2] - k.peak) < 0.05 * k.peak  # Richardson, rate 1: 2.965
+
+
+def test_earlier_keyword_names_still_work_with_a_warning():
+    mesh = blockmesh.load_domain("square").mesh(1)
+    new = solve_elasticity(
+        mesh,
+        ("0", "-1"),
+        young=1.0,
+        poisson=0.3,
+        dirichlet={"left": (0, 0)},
+        neumann={"right": (1, 0)},
+    )
+    with pytest.warns(DeprecationWarning, match="displacement= is now dirichlet="):
+        old = solve_elasticity(
+            mesh,
+            young=1.0,
+            poisson=0.3,
+            body_force=("0", "-1"),
+            displacement={"left": (0, 0)},
+            traction={"right": (1, 0)},
+        )
+    assert np.array_equal(new.displacement, old.displacement)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import blockmesh
-from blockmesh.catalogue import catalogue_names
+from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.errors import ArgumentError, SolverError, TopologyError, UnknownNameError
 from blockmesh.vem import PolygonMesh, solve_poisson
 from blockmesh.vem.rules import cell_rule, fan_rule

@@ -1,0 +1,1020 @@
+"""The validated multi-block domain every mesh starts from.
+
+A :class:`Domain` is a set of strictly convex, counter-clockwise pentagonal blocks meeting edge to
+edge, with every boundary edge in exactly one named patch and every block in one named region. It
+is built from any simple polygon with holes (decomposed automatically), a shapely polygon, an
+existing triangle/quadrilateral mesh (converted), explicit blocks, or a domain file
+(:mod:`blockmesh.domain.tomlio`), and it is checked on construction: an invalid domain never exists.
+
+Examples
+--------
+>>> from blockmesh import Domain
+>>> d = Domain.from_polygon([(0, 0), (2, 0), (3, 1), (1, 3), (0, 2)], name="usp")
+>>> d.blocks.tolist(), d.area
+([[0, 1, 2, 3, 4]], 6.0)
+>>> d.mesh(2).n_cells
+36
+"""
+
+from __future__ import annotations
+
+import numbers
+import re
+import warnings
+from collections.abc import Iterable, Mapping
+from dataclasses import MISSING, dataclass, field, fields
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from blockmesh._system.atomic import as_path, atomic_file
+from blockmesh.checks import readonly
+from blockmesh.curves.edges import area_corrections
+from blockmesh.curves.types import Curve
+from blockmesh.decompose import decompose_polygon
+from blockmesh.decompose.conversion import convert_elements, read_element_mesh
+from blockmesh.decompose.polygon import check_corner_count
+from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, resolve_curves
+from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
+from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
+from blockmesh.domain.validate import (
+    Ring,
+    check_block_shapes,
+    check_rings,
+    check_topology,
+    parse_blocks,
+    parse_points,
+    resolve_patches,
+    resolve_regions,
+)
+from blockmesh.errors import (
+    ArgumentTypeError,
+    BlockMeshError,
+    DomainError,
+    DomainFormatError,
+    TopologyError,
+)
+from blockmesh.geometry.polygons import DIRECTIONS, edges_facing, interior_angles, signed_area
+from blockmesh.geometry.topology import boundary_loops, cell_neighbours
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.refinement.pipeline import refine
+
+__all__ = ["Domain"]
+
+
+def _no_source() -> np.ndarray:
+    """The default of the ``*_source`` fields: not known (filled with -1 on construction)."""
+    return np.zeros(0, dtype=np.int64)
+
+
+@dataclass(frozen=True, eq=False)
+class Domain:
+    """A conforming block mesh of strictly convex pentagons, with patches and regions.
+
+    Build one with :meth:`from_polygon`, :meth:`from_blocks`, :meth:`from_toml` or
+    :func:`blockmesh.load_domain`; the constructor checks everything, so a Domain is always valid.
+
+    Attributes
+    ----------
+    name : str
+    vertices : ndarray (K, 2) float64
+    blocks : ndarray (B, 5) int64
+        Vertex ids of each block, counter-clockwise.
+    boundary_edges : ndarray (Eb, 2) int64
+        Boundary edges in loops, each oriented with the domain on its left.
+    boundary_patch : ndarray (Eb,) int64
+        Index into ``patch_names`` of each boundary edge.
+    patch_names : tuple of str
+    region : ndarray (B,) int64
+        Index into ``region_names`` of each block.
+    region_names : tuple of str
+    description : str
+    layout : str
+        How the blocks came about: ``"blocks"`` (given), ``"mesh"`` (converted) or the
+        decomposition used.
+    boundary_source : ndarray (Eb, 2) int64
+        For each boundary edge (in ``boundary_edges`` order), the polygon edge it lies on, as
+        ``(ring, edge)``: ring 0 is the outer boundary, ring ``K + 1`` is hole ``K``, and edge
+        ``i`` of a ring runs from its corner ``i`` to corner ``i + 1`` *as given* (before any
+        reversal); ``(-1, -1)`` for domains given as blocks. :attr:`polygon_edges` groups them.
+        This is where curved boundaries attach: every block edge on a polygon edge is listed,
+        in order along it.
+    block_source : ndarray (B,) int64
+        For a domain converted from a mesh (:meth:`from_mesh`), the element each block came
+        from (its index among the mesh's 2-D elements in file order); -1 otherwise.
+    curves : mapping of (a, b) to Curve
+        The curved block edges (read-only view): each curve runs from vertex ``a`` to vertex
+        ``b`` (:mod:`blockmesh.curves`); empty when every edge is straight.
+    """
+
+    name: str
+    vertices: np.ndarray
+    blocks: np.ndarray
+    boundary_edges: np.ndarray
+    boundary_patch: np.ndarray
+    patch_names: tuple[str, ...]
+    region: np.ndarray
+    region_names: tuple[str, ...]
+    description: str = ""
+    layout: str = "blocks"
+    boundary_source: np.ndarray = field(default_factory=_no_source, repr=False)
+    block_source: np.ndarray = field(default_factory=_no_source, repr=False)
+    curves: Mapping[tuple[int, int], Curve] = field(default_factory=dict)
+    _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
+
+    def __post_init__(self) -> None:
+        vertices = parse_points(self.vertices, "vertex")
+        blocks = parse_blocks(self.blocks, vertices.shape[0])
+        check_block_shapes(vertices, blocks, repair=False)
+        neighbour = _neighbours(blocks, vertices.shape[0])
+        check_topology(vertices, blocks, neighbour)
+        boundary = boundary_loops(blocks, neighbour)
+        given = np.asarray(self.boundary_edges, dtype=np.int64).reshape(-1, 2)
+        if not np.array_equal(given, boundary):
+            raise DomainError(
+                "boundary_edges must be the blocks' boundary edges in loop order; build domains "
+                "with Domain.from_blocks() or Domain.from_polygon()"
+            )
+        patch = np.asarray(self.boundary_patch, dtype=np.int64)
+        region = np.asarray(self.region, dtype=np.int64)
+        if patch.shape != (boundary.shape[0],) or not np.all(
+            (patch >= 0) & (patch < len(self.patch_names))
+        ):
+            raise DomainError("every boundary edge needs one patch (an index into patch_names)")
+        if region.shape != (blocks.shape[0],) or not np.all(
+            (region >= 0) & (region < len(self.region_names))
+        ):
+            raise DomainError("every block needs one region (an index into region_names)")
+        object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
+        self._store(vertices, blocks, boundary, patch, region, neighbour)
+
+    def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
+        set_ = object.__setattr__
+        set_(self, "vertices", readonly(vertices, np.float64))
+        set_(self, "blocks", readonly(blocks, np.int64))
+        set_(self, "boundary_edges", readonly(boundary, np.int64))
+        set_(self, "boundary_patch", readonly(patch, np.int64))
+        set_(self, "region", readonly(region, np.int64))
+        set_(self, "patch_names", tuple(self.patch_names))
+        set_(self, "region_names", tuple(self.region_names))
+        set_(self, "_neighbour", readonly(neighbour, np.int64))
+        set_(self, "boundary_source", _boundary_source(self.boundary_source, boundary.shape[0]))
+        set_(self, "block_source", _block_source(self.block_source, blocks.shape[0]))
+        set_(self, "curves", MappingProxyType(dict(self.curves)))
+
+    @classmethod
+    def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
+        """A Domain from data :meth:`from_blocks` has just checked (no second validation)."""
+        domain = object.__new__(cls)
+        for f in fields(cls):
+            if f.name != "_neighbour":
+                object.__setattr__(domain, f.name, values.get(f.name, f.default))
+        domain._store(
+            values["vertices"],
+            values["blocks"],
+            values["boundary_edges"],
+            values["boundary_patch"],
+            values["region"],
+            neighbour,
+        )
+        return domain
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_blocks(
+        cls,
+        vertices: Any,
+        blocks: Any,
+        patches: Mapping[str, Iterable] | None = None,
+        regions: Mapping[str, Iterable[int]] | None = None,
+        *,
+        name: str = "blocks",
+        description: str = "",
+        layout: str = "blocks",
+        merge_tol: float | None = None,
+        boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
+        block_source: Any = None,
+        edges: Mapping[tuple[int, int], Curve] | None = None,
+    ) -> Domain:
+        """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
+
+        Parameters
+        ----------
+        vertices : sequence of (x, y)
+        blocks : sequence of 5 vertex ids each
+            Clockwise blocks are reversed (first vertex kept) with a warning.
+        patches : mapping of name to a list of (a, b) boundary edges, optional
+            Unlisted boundary edges go to the patch ``"boundary"``.
+        regions : mapping of name to a list of block ids, optional
+            Unlisted blocks go to the region ``"domain"``.
+        merge_tol : float, optional
+            Merge vertices closer than this distance (in the coordinates' units) into one, the
+            lowest-numbered, before anything is checked: pieces made separately are glued along
+            their common edges. The vertices are then renumbered in order, leaving out the
+            merged ones, and ``blocks`` and ``patches`` refer to the new numbers' old ids as given
+            (the merge maps them).
+        boundary_source : mapping of (a, b) to (ring, edge), optional
+            The polygon edge each boundary edge lies on (see :attr:`boundary_source`); used by
+            the polygon constructors.
+        block_source : sequence of int, optional
+            The source element of each block (see :attr:`block_source`); used by
+            :meth:`from_mesh`.
+        edges : mapping of (a, b) to a curve, optional
+            Curved block edges: the curve (:class:`~blockmesh.curves.Arc`,
+            :class:`~blockmesh.curves.Spline` or :class:`~blockmesh.curves.Polyline`) replaces
+            the straight edge from vertex ``a`` to vertex ``b`` (ids as given, before any
+            merge). The blocks must stay strictly convex with their curves when refined
+            (:mod:`blockmesh.domain.curve_checks`).
+
+        Examples
+        --------
+        >>> d = Domain.from_blocks(
+        ...     [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2), (4, 0), (4.5, 1), (4, 2)],
+        ...     [(0, 1, 2, 3, 4), (1, 5, 6, 7, 2)],
+        ...     patches={"inlet": [(4, 0)]},
+        ... )
+        >>> d.patch_names, len(d.patches["boundary"])
+        (('inlet', 'boundary'), 7)
+
+        Two blocks made separately, glued where their corners (almost) coincide:
+
+        >>> left = [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2)]
+        >>> right = [(2 + 1e-12, 0), (4, 0), (4.5, 1), (4, 2), (2.5, 1 - 1e-12)]
+        >>> d = Domain.from_blocks(
+        ...     left + right, [(0, 1, 2, 3, 4), (5, 6, 7, 8, 9)], merge_tol=1e-9
+        ... )
+        >>> d.n_vertices, d.n_shared_edges
+        (8, 1)
+
+        A curved edge:
+
+        >>> from blockmesh.curves import Arc
+        >>> curved = Domain.from_blocks(
+        ...     [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2)], [(0, 1, 2, 3, 4)],
+        ...     edges={(0, 1): Arc(through=(1, -0.3))},
+        ... )
+        >>> round(curved.area, 6)  # the pentagon's 4.5 and the circular segment below edge 0
+        4.90711
+        """
+        points = parse_points(vertices, "vertex")
+        block_ids = parse_blocks(blocks, points.shape[0])
+        if merge_tol is not None:
+            given = points
+            points, block_ids, patches = _merged(points, block_ids, patches, merge_tol)
+            edges = _merged_edges(edges, given, points)
+        return cls._from_parsed(
+            points,
+            block_ids,
+            patches,
+            regions,
+            name=name,
+            description=description,
+            layout=layout,
+            boundary_source=boundary_source,
+            block_source=block_source,
+            edges=edges,
+        )
+
+    @classmethod
+    def _from_parsed(
+        cls,
+        points: np.ndarray,
+        block_ids: np.ndarray,
+        patches: Any,
+        regions: Any,
+        *,
+        made_for: str | None = None,
+        boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
+        block_source: Any = None,
+        edges: Mapping[tuple[int, int], Curve] | None = None,
+        **text: str,
+    ) -> Domain:
+        """Check parsed blocks and build the Domain.
+
+        ``made_for`` names what blockmesh decomposed, so that its own blocks failing the checks
+        read as "too thin" rather than as a fault in blocks the user never wrote.
+        """
+        try:
+            block_ids = check_block_shapes(points, block_ids, repair=made_for is None)
+            neighbour = _neighbours(block_ids, points.shape[0])
+            check_topology(points, block_ids, neighbour)
+        except (DomainError, TopologyError) as error:
+            if made_for is None:
+                raise
+            lines = [line.strip() for line in str(error).splitlines()]
+            first = lines[1] if len(lines) > 1 and lines[0].endswith("problems:") else lines[0]
+            raise DomainError(
+                f"{made_for} is too thin (or too small for where it sits) to decompose in double "
+                f"precision: the blocks made for it fail their own check ({first}); widen its "
+                "thinnest part or move it nearer the origin"
+            ) from None
+        boundary = boundary_loops(block_ids, neighbour)
+        patch_names, patch = resolve_patches(boundary, patches, block_ids)
+        region_names, region = resolve_regions(block_ids.shape[0], regions)
+        curves = _checked_curves(points, block_ids, edges)
+        source = None
+        if boundary_source is not None:
+            source = np.array(
+                [boundary_source.get((int(a), int(b)), (-1, -1)) for a, b in boundary],
+                dtype=np.int64,
+            ).reshape(-1, 2)
+        return cls._trusted(
+            neighbour=neighbour,
+            name=_check_text(text.get("name", "blocks"), "name"),
+            vertices=points,
+            blocks=block_ids,
+            boundary_edges=boundary,
+            boundary_patch=patch,
+            patch_names=patch_names,
+            region=region,
+            region_names=region_names,
+            description=_check_text(text.get("description", ""), "description"),
+            layout=text.get("layout", "blocks"),
+            boundary_source=source,
+            block_source=block_source,
+            curves=curves,
+        )
+
+    @classmethod
+    def from_polygon(
+        cls,
+        coords: Any,
+        holes: Iterable[Any] | None = None,
+        *,
+        name: str = "polygon",
+        patches: Mapping[str, Iterable[int | str]] | None = None,
+        description: str = "",
+        arcs: Mapping[int | str, Curve] | None = None,
+        circles: Iterable[Mapping[str, Any]] | None = None,
+    ) -> Domain:
+        """Any simple polygon, convex or not, with any number of holes, decomposed into blocks.
+
+        Parameters
+        ----------
+        coords : sequence of (x, y)
+            The outer boundary's corners in order (clockwise is reversed with a warning; a
+            repeated closing corner and straight corners are dropped with a warning, except a
+            straight corner where two patches meet, which stays as the point where they change).
+        holes : sequence of sequences of (x, y), optional
+            Each hole's corners in order, either way round.
+        patches : mapping of name to a list of polygon edges, optional
+            An integer ``i`` is edge ``i`` of the outer boundary (from corner ``i`` to
+            ``i + 1`` as given); ``"hole K"`` is every edge of hole ``K`` (0-based);
+            ``"hole K:E"`` is edge ``E`` of hole ``K``; ``"left"``, ``"right"``, ``"top"`` and
+            ``"bottom"`` are the outer boundary's edges facing that way (their outward normal
+            points most nearly there: :func:`blockmesh.geometry.edges_facing`) and not listed
+            by number in another patch. Unlisted edges go to ``"boundary"``.
+        arcs : mapping of edge to Arc, optional
+            Polygon edges that are circular arcs: edge ``i`` of the outer boundary, or
+            ``"hole K:E"``, to an :class:`~blockmesh.curves.Arc` (``through`` or ``center``).
+        circles : sequence of mappings, optional
+            Circular holes, each ``{"center": (x, y), "radius": r}`` with optionally
+            ``"patch"`` (a patch name) and ``"sides"`` (of the inscribed polygon decomposed,
+            default 8); they are numbered after the ``holes``.
+
+        Notes
+        -----
+        A strictly convex polygon without holes and with at most 16 corners gets the exact
+        layouts (the fewest blocks); anything else a quality triangulation with a 9-pentagon
+        template per triangle (:func:`blockmesh.decompose.decompose_polygon`).
+        :attr:`boundary_source` records which polygon edge every boundary edge lies on.
+
+        Examples
+        --------
+        >>> d = Domain.from_polygon([(0, 0), (1, 0), (1, 1), (0, 1)], patches={"bottom": [0]})
+        >>> d.n_blocks, d.layout, d.patch_names
+        (8, 'quad-template', ('bottom', 'boundary'))
+        >>> plate = Domain.from_polygon(
+        ...     [(0, 0), (4, 0), (4, 2), (0, 2)],
+        ...     holes=[[(1.5, 0.5), (2.5, 0.5), (2.5, 1.5), (1.5, 1.5)]],
+        ...     patches={"inlet": [3], "outlet": [1], "hole": ["hole 0"]},
+        ... )
+        >>> plate.layout, plate.patch_names, round(plate.area, 12)
+        ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
+        """
+        holes = _hole_list(holes) if holes is not None else []
+        check_corner_count(sum(len(r) if hasattr(r, "__len__") else 0 for r in (coords, *holes)))
+        patches = _facing_resolved(patches, coords)
+        if arcs or circles:  # decomposed through the chords, then curved: domain.curved_polygons
+            return curved_polygon(
+                cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
+                description=description,
+            )  # fmt: skip
+
+        given = [parse_points(coords, "polygon vertex")]
+        for k, hole in enumerate(_hole_list(holes)):
+            given.append(parse_points(hole, f"hole {k} vertex"))
+        edge_patch = _ring_edge_patches(patches, [len(g) for g in given])
+        rings = check_rings(given, edge_patch)
+        decomposition = decompose_polygon([r.points for r in rings])
+        chains = [decomposition.edge_chains, *decomposition.hole_chains]
+        named: dict[str, list[tuple[int, int]]] = {}
+        source: dict[tuple[int, int], tuple[int, int]] = {}
+        for r, (ring, ring_chains) in enumerate(zip(rings, chains, strict=True)):
+            for i, chain in enumerate(ring_chains):
+                for a, b, edge in _steps_on_input_edges(ring, i, chain, decomposition.vertices):
+                    source[(a, b)] = (r, edge)
+                    patch_name = edge_patch[r][edge] if edge_patch is not None else None
+                    if patch_name is not None:
+                        named.setdefault(patch_name, []).append((a, b))
+        # Keep the user's patch order.
+        order = list(patches or {})
+        named = {k: named[k] for k in order if k in named}
+        return cls._from_parsed(
+            np.array(decomposition.vertices),
+            np.array(decomposition.blocks),
+            named,
+            None,
+            made_for="the polygon",
+            name=name,
+            description=description,
+            layout=decomposition.layout,
+            boundary_source=source,
+        )
+
+    @classmethod
+    def from_circle(
+        cls,
+        center: Any,
+        radius: float,
+        *,
+        name: str = "circle",
+        patch: str = "boundary",
+        description: str = "",
+    ) -> Domain:
+        """A disc of 11 blocks with 5 arcs (:func:`blockmesh.domain.curved_polygons.disc_layout`).
+
+        Examples
+        --------
+        >>> d = Domain.from_circle((1, 2), 0.5, patch="wall")
+        >>> d.n_blocks, d.patch_names, round(d.area, 14) == round(3.141592653589793 / 4, 14)
+        (11, ('wall',), True)
+        """
+        return circle_domain(cls, center, radius, name=name, patch=patch, description=description)
+
+    @classmethod
+    def from_shapely(
+        cls,
+        polygon: Any,
+        *,
+        name: str = "polygon",
+        patches: Mapping[str, Iterable[int | str]] | None = None,
+        description: str = "",
+    ) -> Domain:
+        """A domain from a shapely Polygon (its exterior and its interiors as holes).
+
+        Edge numbers for ``patches`` are as in :meth:`from_polygon`, counted along the rings as
+        shapely stores them (the closing point is not a corner). A MultiPolygon is an error: a
+        domain is one connected piece, so mesh each part as its own domain
+        (``[Domain.from_shapely(p) for p in multi.geoms]``).
+
+        Examples
+        --------
+        >>> import shapely
+        >>> ring = shapely.Point(0, 0).buffer(2, quad_segs=4).difference(shapely.box(-1, -1, 1, 1))
+        >>> d = Domain.from_shapely(ring, patches={"inner": ["hole 0"]})
+        >>> d.patch_names, round(d.area / ring.area, 12)
+        (('inner', 'boundary'), 1.0)
+        """
+        import shapely
+
+        if isinstance(polygon, shapely.MultiPolygon):
+            raise DomainError(
+                f"a MultiPolygon of {len(polygon.geoms)} parts is not one domain: mesh each part "
+                "as its own domain (for part in multipolygon.geoms: Domain.from_shapely(part)), "
+                "or join them first (shapely.union_all)"
+            )
+        if not isinstance(polygon, shapely.Polygon):
+            raise ArgumentTypeError(
+                f"from_shapely takes a shapely Polygon, got {type(polygon).__name__}"
+            )
+        if polygon.is_empty:
+            raise DomainError("the shapely polygon is empty")
+        exterior = np.asarray(polygon.exterior.coords)[:-1, :2]
+        holes = [np.asarray(ring.coords)[:-1, :2] for ring in polygon.interiors]
+        # shapely keeps rings either way round: reversing a clockwise one is no news to report.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            domain = cls.from_polygon(
+                exterior, holes, name=name, patches=patches, description=description
+            )
+        for warning in caught:
+            if not str(warning.message).startswith("the polygon was given clockwise"):
+                warnings.warn_explicit(
+                    warning.message, warning.category, warning.filename, warning.lineno
+                )
+        return domain
+
+    @classmethod
+    def from_mesh(
+        cls,
+        source: Any,
+        *,
+        name: str | None = None,
+        description: str = "",
+    ) -> Domain:
+        """A domain from an existing triangle, quadrilateral or mixed mesh (pentagonal conversion).
+
+        Every triangle becomes its 9-pentagon template and every convex quadrilateral (or other
+        convex polygon) its ring-and-hub template (``3 n`` pentagons), with the nodes of every
+        element edge at the same symmetric fractions, so the result conforms. Physical groups
+        (or line cell sets) become patches; surface groups become regions; each block keeps the
+        id of its source element (see :mod:`blockmesh.decompose.conversion`).
+
+        Parameters
+        ----------
+        source : str or Path or meshio.Mesh
+            A mesh file (Gmsh ``.msh``; ``.vtu``, ``.vtk``, ``.xdmf`` and the other formats
+            meshio reads) or a meshio mesh.
+        name : str, optional
+            Default: the file's stem (or ``"mesh"``).
+        """
+        mesh = read_element_mesh(source)
+        label = str(source) if isinstance(source, str | Path) else "the mesh"
+        default_name = Path(source).stem if isinstance(source, str | Path) else "mesh"
+        try:
+            spec = convert_elements(mesh)
+            return cls.from_blocks(
+                spec.vertices,
+                spec.blocks,
+                spec.patches,
+                spec.regions,
+                name=name or default_name,
+                description=description,
+                layout=spec.layout,
+                block_source=spec.block_source,
+            )
+        except DomainError as error:
+            raise type(error)(f"{label}: {error}") from None
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Domain:
+        """Read a domain file (polygon or explicit blocks); see :mod:`blockmesh.domain.tomlio`."""
+        return _from_raw(read_domain_file(path), source=str(path))
+
+    @classmethod
+    def from_toml_text(cls, text: str, *, name: str = "domain") -> Domain:
+        """A domain from TOML text (as in a domain file).
+
+        Examples
+        --------
+        >>> Domain.from_toml_text("polygon = [[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]]").area
+        6.0
+        """
+        raw = parse_domain_text(text, source="<text>")
+        raw.setdefault("name", name)
+        return _from_raw(raw, source="<text>")
+
+    # ------------------------------------------------------------------ output
+    def to_toml(self) -> str:
+        """The domain as TOML text (explicit blocks); :meth:`from_toml_text` reads it back."""
+        return dumps_domain(self)
+
+    def write_toml(self, path: str | Path) -> Path:
+        """Write :meth:`to_toml` to ``path`` atomically (temporary file, then rename)."""
+        path = as_path(path)
+        with atomic_file(path) as temporary:
+            temporary.write_text(self.to_toml(), encoding="utf-8")
+        return path
+
+    # ------------------------------------------------------------------ measures
+    @property
+    def n_blocks(self) -> int:
+        """Number of blocks B."""
+        return int(self.blocks.shape[0])
+
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices K."""
+        return int(self.vertices.shape[0])
+
+    @property
+    def area(self) -> float:
+        """Total area of the blocks."""
+        return float(np.sum(self.block_areas()))
+
+    def block_areas(self) -> np.ndarray:
+        """Area of each block, shape (B,), bounded by its curved edges where it has any."""
+        areas = signed_area(self.vertices[self.blocks])
+        if self.curves:
+            areas = areas + area_corrections(self.blocks, self.n_vertices, self.block_mesh().curves)
+        return areas
+
+    def block_angles(self) -> np.ndarray:
+        """Interior angles of each block in degrees, shape (B, 5)."""
+        return interior_angles(self.vertices[self.blocks])
+
+    @property
+    def n_shared_edges(self) -> int:
+        """Number of edges shared by two blocks."""
+        return int(np.count_nonzero(self._neighbour >= 0)) // 2
+
+    @property
+    def patches(self) -> Mapping[str, np.ndarray]:
+        """Boundary edges (E, 2) of each patch, by name (read-only view)."""
+        return MappingProxyType(
+            {
+                name: self.boundary_edges[self.boundary_patch == k]
+                for k, name in enumerate(self.patch_names)
+            }
+        )
+
+    @property
+    def regions(self) -> Mapping[str, np.ndarray]:
+        """Block ids of each region, by name (read-only view)."""
+        return MappingProxyType(
+            {name: np.flatnonzero(self.region == k) for k, name in enumerate(self.region_names)}
+        )
+
+    @property
+    def polygon_edges(self) -> Mapping[tuple[int, int], np.ndarray]:
+        """The block vertices along each polygon edge, by ``(ring, edge)`` (read-only view).
+
+        For a domain made from a polygon (see :attr:`boundary_source`): each chain lists the
+        vertex ids from one end of the polygon edge to the other, in the boundary's direction
+        (the domain on the left), so consecutive ids are boundary edges of the blocks. Empty for
+        a domain given as blocks. O(Eb log Eb).
+
+        Examples
+        --------
+        >>> d = Domain.from_polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+        >>> d.polygon_edges[(0, 0)].tolist()  # the bottom edge: corner 0, a node, corner 1
+        [0, 4, 1]
+        """
+        chains: dict[tuple[int, int], np.ndarray] = {}
+        known = self.boundary_source[:, 0] >= 0
+        if not known.any():
+            return MappingProxyType(chains)
+        keys = self.boundary_source[known, 0] * (self.boundary_edges.shape[0] + 1)
+        keys = keys + self.boundary_source[known, 1]
+        edges = self.boundary_edges[known]
+        order = np.argsort(keys, kind="stable")
+        keys, edges = keys[order], edges[order]
+        starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+        for lo, hi in zip(starts, np.r_[starts[1:], keys.size], strict=True):
+            run = edges[lo:hi]
+            following = dict(zip(run[:, 0].tolist(), run[:, 1].tolist(), strict=True))
+            first = next(a for a in following if a not in set(run[:, 1].tolist()))
+            chain = [first]
+            while chain[-1] in following:
+                chain.append(following[chain[-1]])
+            ring, edge = (int(x) for x in self.boundary_source[known][order][lo])
+            chains[(ring, edge)] = readonly(np.array(chain, dtype=np.int64), np.int64)
+        return MappingProxyType(chains)
+
+    def block_graph(self):
+        """The networkx graph of blocks and shared edges; see :mod:`blockmesh.domain.blockgraph`."""
+        from blockmesh.domain.blockgraph import block_graph
+
+        return block_graph(self)
+
+    # ------------------------------------------------------------------ meshing
+    def block_mesh(self) -> Mesh:
+        """The blocks themselves as a level-0 :class:`~blockmesh.mesh.Mesh`."""
+        n = self.n_blocks
+        return Mesh._trusted(
+            points=self.vertices,
+            cells=self.blocks,
+            block_id=np.arange(n),
+            parent=np.full(n, -1),
+            boundary_edges=self.boundary_edges,
+            boundary_patch=self.boundary_patch,
+            patch_names=self.patch_names,
+            region=self.region,
+            region_names=self.region_names,
+            level=0,
+            name=self.name,
+            curves=curved_edges(self.curves),
+        )
+
+    def mesh(self, level: int, **options: Any) -> Mesh:
+        """Refine the blocks ``level`` times; options as :func:`blockmesh.refine`."""
+        return refine(self, level, **options)
+
+
+# ---------------------------------------------------------------------- helpers
+def _check_text(value: object, what: str) -> str:
+    """``value`` if it is a string without control characters (new lines allowed but in names)."""
+    if not isinstance(value, str):
+        raise DomainFormatError(f"the domain's {what} must be a string, got {value!r}")
+    allowed = "" if what == "name" else "\n\t"
+    for position, char in enumerate(value):
+        if not char.isprintable() and char not in allowed:
+            raise DomainFormatError(
+                f"the domain's {what} has the control character {char!r} at position "
+                f"{position}; use printable text"
+            )
+    return value
+
+
+def _checked_curves(
+    vertices: np.ndarray, blocks: np.ndarray, edges: Mapping | None
+) -> dict[tuple[int, int], Curve]:
+    """The curves of ``edges`` bound to their vertices, after the blocks are checked with them."""
+    curves = resolve_curves(vertices, blocks, edges)
+    check_curved_blocks(vertices, blocks, curves)
+    return curves
+
+
+def _merged_edges(edges: Any, given: np.ndarray, merged: np.ndarray) -> Any:
+    """``edges`` keyed by the vertex ids after a merge (each vertex finds its merged point)."""
+    if not edges or not isinstance(edges, Mapping):
+        return edges
+    from scipy.spatial import cKDTree
+
+    _, new_id = cKDTree(merged).query(given)
+    out = {}
+    for key, curve in edges.items():
+        try:
+            a, b = (int(new_id[int(v)]) for v in key)
+        except (TypeError, ValueError, IndexError):
+            out[key] = curve  # resolve_curves names the bad key
+            continue
+        out[(a, b)] = curve
+    return out
+
+
+def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
+    try:
+        return cell_neighbours(blocks, n_vertices)
+    except BlockMeshError as error:
+        raise TopologyError(f"{error}: the blocks overlap there") from None
+
+
+def _hole_list(holes: Any) -> list[Any]:
+    if holes is None:
+        return []
+    if isinstance(holes, str | bytes) or not isinstance(holes, Iterable):
+        raise DomainFormatError(
+            f"holes must be a list of rings (each a list of [x, y] corners), got "
+            f"{type(holes).__name__}"
+        )
+    return list(holes)
+
+
+_HOLE_EDGE = re.compile(r"^hole (\d+)(?::(\d+))?$")
+
+
+def _facing_resolved(patches: Any, coords: Any) -> Any:
+    """``patches`` with the direction words (``"left"`` ...) replaced by outer edge indices.
+
+    An edge a patch lists by number (or by another word) stays there: a word takes the edges
+    facing its way that nothing else claims.
+    """
+    if not isinstance(patches, Mapping):
+        return patches
+    words = {
+        name: [e for e in edges if isinstance(e, str) and e.strip().lower() in DIRECTIONS]
+        for name, edges in patches.items()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+    }
+    if not any(words.values()):
+        return patches
+    facing = edges_facing(parse_points(coords, "polygon vertex"))
+    claimed: set[int] = {
+        int(e)
+        for edges in patches.values()
+        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
+        for e in edges
+        if isinstance(e, numbers.Integral)
+    }
+    resolved: dict[str, Any] = {}
+    for name, edges in patches.items():
+        if not words.get(name):
+            resolved[name] = edges
+            continue
+        listed = [e for e in edges if e not in words[name]]
+        for word in words[name]:
+            taken = [i for i in facing[word.strip().lower()] if i not in claimed]
+            listed += taken
+            claimed.update(taken)
+        resolved[name] = listed
+    return resolved
+
+
+def _ring_edge_patches(
+    patches: Mapping[str, Iterable[int | str]] | None, sizes: list[int]
+) -> list[list[str | None]] | None:
+    """Each ring's edges' patch names from the polygon form of ``patches``; None if none given."""
+    if not patches:
+        return None
+    if not isinstance(patches, Mapping):
+        raise DomainFormatError(
+            f"patches must map patch names to polygon edges, got {type(patches).__name__}"
+        )
+    edge_patch: list[list[str | None]] = [[None] * n for n in sizes]
+    for patch_name, edges in patches.items():
+        if isinstance(edges, str | bytes) or not isinstance(edges, Iterable):
+            raise DomainFormatError(
+                f"patch {patch_name!r} must be a list of polygon edges, got {edges!r}"
+            )
+        for edge in edges:
+            for ring, index in _ring_edges(patch_name, edge, sizes):
+                owner = edge_patch[ring][index]
+                where = f"edge {index}" if ring == 0 else f"hole {ring - 1} edge {index}"
+                if owner is not None and owner != patch_name:
+                    raise DomainError(
+                        f"polygon {where} is in patches {owner!r} and {patch_name!r}; an edge "
+                        "belongs to one patch"
+                    )
+                edge_patch[ring][index] = str(patch_name)
+    return edge_patch
+
+
+def _ring_edges(patch_name: str, edge: object, sizes: list[int]) -> list[tuple[int, int]]:
+    """The (ring, edge) pairs one item of a polygon patch list names."""
+    forms = (
+        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K), '
+        '"hole K:E" (edge E of hole K) or left, right, top, bottom (the outer edges facing '
+        "that way)"
+    )
+    if isinstance(edge, numbers.Integral) and not isinstance(edge, bool):
+        if not 0 <= int(edge) < sizes[0]:
+            raise DomainError(
+                f"patch {patch_name!r} names edge {edge}, but the polygon's edges are numbered "
+                f"0..{sizes[0] - 1}"
+            )
+        return [(0, int(edge))]
+    match = _HOLE_EDGE.match(edge.strip()) if isinstance(edge, str) else None
+    if match is None:
+        raise DomainFormatError(
+            f"patch {patch_name!r} has {edge!r}; for a polygon, a patch lists {forms} (edge i runs "
+            "from corner i to corner i+1)"
+        )
+    hole = int(match.group(1))
+    if hole >= len(sizes) - 1:
+        have = f"holes 0..{len(sizes) - 2}" if len(sizes) > 1 else "no holes"
+        raise DomainError(f"patch {patch_name!r} names hole {hole}, but the polygon has {have}")
+    n = sizes[hole + 1]
+    if match.group(2) is None:
+        return [(hole + 1, i) for i in range(n)]
+    index = int(match.group(2))
+    if index >= n:
+        raise DomainError(
+            f"patch {patch_name!r} names edge {index} of hole {hole}, whose edges are numbered "
+            f"0..{n - 1}"
+        )
+    return [(hole + 1, index)]
+
+
+def _steps_on_input_edges(
+    ring: Ring, i: int, chain: np.ndarray, vertices: np.ndarray
+) -> list[tuple[int, int, int]]:
+    """The block edges ``(a, b)`` along output edge ``i`` of a ring, each with its input edge.
+
+    Where straight corners were dropped, output edge ``i`` runs along several input edges; a
+    block edge goes to the one its midpoint lies on.
+    """
+    inputs = ring.input_edges(i)
+    steps = list(zip(chain[:-1].tolist(), chain[1:].tolist(), strict=True))
+    if len(inputs) == 1:
+        return [(a, b, inputs[0]) for a, b in steps]
+    # The dropped corners, in order along the edge: where one input edge hands over to the next.
+    dropped = inputs[:-1] if ring.reversed else inputs[1:]
+    start = vertices[chain[0]]
+    direction = vertices[chain[-1]] - start
+    scale = float(direction @ direction)
+    breaks = (ring.given[dropped] - start) @ direction / scale
+    middles = ((vertices[chain[:-1]] + vertices[chain[1:]]) / 2 - start) @ direction / scale
+    which = np.searchsorted(breaks, middles)
+    return [(a, b, inputs[int(k)]) for (a, b), k in zip(steps, which, strict=True)]
+
+
+def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
+    if source is None or source is MISSING or np.size(source) == 0:
+        return readonly(np.full((n_boundary, 2), -1, dtype=np.int64), np.int64)
+    array = np.asarray(source, dtype=np.int64)
+    if array.shape != (n_boundary, 2):
+        raise DomainError(
+            f"boundary_source must have one (ring, edge) row per boundary edge, shape "
+            f"({n_boundary}, 2), got {array.shape}"
+        )
+    return readonly(array, np.int64)
+
+
+def _whole(value: object) -> bool:
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _source_table(raw: Any) -> dict[tuple[int, int], tuple[int, int]] | None:
+    """The ``boundary_source`` rows of a domain file, ``[a, b, ring, edge]`` each."""
+    if raw is None:
+        return None
+    table = {}
+    for k, row in enumerate(raw):
+        if (
+            not isinstance(row, list)
+            or len(row) != 4
+            or not all(_whole(v) and -1 <= int(v) < 2**62 for v in row)
+        ):
+            raise DomainFormatError(
+                f"boundary_source row {k} is {row!r:.80}: each row is [a, b, ring, edge], whole "
+                "numbers of at least -1"
+            )
+        table[(int(row[0]), int(row[1]))] = (int(row[2]), int(row[3]))
+    return table
+
+
+def _source_list(raw: Any) -> np.ndarray | None:
+    """The ``block_source`` list of a domain file: one whole number per block."""
+    if raw is None:
+        return None
+    bad = [k for k, v in enumerate(raw) if not _whole(v) or not -1 <= int(v) < 2**62]
+    if bad:
+        raise DomainFormatError(
+            f"block_source entry {bad[0]} is {raw[bad[0]]!r}: one element number (or -1) per block"
+        )
+    return np.array(raw, dtype=np.int64)
+
+
+def _block_source(source: Any, n_blocks: int) -> np.ndarray:
+    if source is None or source is MISSING or np.size(source) == 0:
+        return readonly(np.full(n_blocks, -1, dtype=np.int64), np.int64)
+    array = np.asarray(source, dtype=np.int64)
+    if array.shape != (n_blocks,):
+        raise DomainError(
+            f"block_source must have one entry per block, shape ({n_blocks},), got {array.shape}"
+        )
+    return readonly(array, np.int64)
+
+
+def _merged(
+    points: np.ndarray, blocks: np.ndarray, patches: Any, tol: float
+) -> tuple[np.ndarray, np.ndarray, Any]:
+    """Merge vertices closer than ``tol``; renumber; map blocks and patch vertex pairs."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    if not isinstance(tol, numbers.Real) or isinstance(tol, bool) or not tol >= 0:
+        raise DomainFormatError(f"merge_tol must be a distance >= 0, got {tol!r}")
+    n = points.shape[0]
+    pairs = cKDTree(points).query_pairs(r=float(tol), output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    representative = np.full(label.max() + 1, n, dtype=np.int64)
+    np.minimum.at(representative, label, np.arange(n))
+    target = representative[label]
+    kept = np.unique(target)
+    new_id = np.full(n, -1, dtype=np.int64)
+    new_id[kept] = np.arange(kept.size)
+    mapping = new_id[target]
+    mapped_patches = patches
+    if patches:
+        mapped_patches = {}
+        for patch_name, edges in dict(patches).items():
+            mapped = []
+            for edge in edges if isinstance(edges, Iterable) else [edges]:
+                pair = (
+                    list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
+                )
+                if (
+                    pair is not None
+                    and len(pair) == 2
+                    and all(isinstance(v, numbers.Integral) and 0 <= v < n for v in pair)
+                ):
+                    mapped.append((int(mapping[pair[0]]), int(mapping[pair[1]])))
+                else:
+                    mapped.append(edge)
+            mapped_patches[patch_name] = mapped
+    return points[kept], mapping[blocks], mapped_patches
+
+
+def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
+    name = raw.get("name", "domain")
+    description = raw.get("description", "")
+    try:
+        if "circle" in raw:
+            circle = raw["circle"]
+            return Domain.from_circle(
+                circle["center"],
+                circle["radius"],
+                name=name,
+                patch=circle.get("patch", "boundary"),
+                description=description,
+            )
+        if "polygon" in raw:
+            return Domain.from_polygon(
+                raw["polygon"],
+                raw.get("holes"),
+                name=name,
+                patches=raw.get("patches"),
+                description=description,
+                arcs=raw.get("arcs"),
+                circles=raw.get("circles"),
+            )
+        return Domain.from_blocks(
+            raw["vertices"],
+            raw["blocks"],
+            raw.get("patches"),
+            raw.get("regions"),
+            name=name,
+            description=description,
+            boundary_source=_source_table(raw.get("boundary_source")),
+            block_source=_source_list(raw.get("block_source")),
+            edges=raw.get("edges"),
+        )
+    except DomainError as error:
+        raise type(error)(f"{source}: {error}") from None

@@ -1,0 +1,605 @@
+"""The all-pentagon mesh: a frozen dataclass of read-only arrays, and its measures.
+
+A :class:`Mesh` is what :func:`blockmesh.refine` returns and what integration and the writers take.
+Level 0 is the block mesh of a domain itself; every level splits each cell into six.
+
+Examples
+--------
+>>> import blockmesh
+>>> mesh = blockmesh.load_domain("sp").mesh(2)
+>>> mesh.n_cells, mesh.n_points, mesh.level
+(36, 65, 2)
+>>> round(mesh.area, 12)
+5.0
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import MISSING, dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from blockmesh.curves.edges import CurvedEdges, area_corrections
+from blockmesh.errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
+from blockmesh.geometry.topology import boundary_of_cells, check_boundary
+from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas, widest_id_spread
+
+__all__ = ["Mesh", "MeshQuality"]
+
+
+#: Cells whose areas :meth:`Mesh._check_cells` holds at once.
+_CHUNK = 1 << 18
+#: Cells per step of :meth:`Mesh.bandwidth` (five columns of int64 temporaries in cache).
+_BANDWIDTH_CHUNK = 1 << 15
+
+
+def _frozen(values: Any, dtype: Any, what: str, tail: tuple[int, ...] = ()) -> np.ndarray:
+    """``values`` as a contiguous read-only array of ``dtype`` and shape ``(n, *tail)``."""
+    integer = np.issubdtype(np.dtype(dtype), np.integer)
+    if integer and isinstance(values, np.ndarray) and values.dtype.kind == "f":
+        raise ArgumentTypeError(f"Mesh {what} must be integers, got {values.dtype}")
+    try:
+        array = np.ascontiguousarray(values, dtype=dtype)
+    except (TypeError, ValueError) as error:
+        raise ArgumentTypeError(
+            f"Mesh {what} cannot be read as {np.dtype(dtype)}: {error}"
+        ) from None
+    if array.ndim != 1 + len(tail) or array.shape[1:] != tail:
+        shape = "(n" + "".join(f", {t}" for t in tail) + ")"
+        raise ArgumentError(f"Mesh {what} must have shape {shape}, got {array.shape}")
+    if array.flags.writeable:
+        if array.base is not None or array is values:
+            array = array.copy()
+        array.setflags(write=False)
+    return array
+
+
+def _check_range(values: np.ndarray, low: int, high: int, what: str, upper: str) -> None:
+    """ArgumentError naming the first entry of ``values`` outside ``low..high - 1``."""
+    if values.size == 0:
+        return
+    if int(values.min()) >= low and int(values.max()) < high:
+        return
+    flat = values.reshape(values.shape[0], -1)
+    row = int(np.flatnonzero(np.any((flat < low) | (flat >= high), axis=1))[0])
+    shown = flat[row].tolist()
+    raise ArgumentError(
+        f"{what} {row} is {shown[0] if len(shown) == 1 else shown}, but {upper} "
+        f"(valid: {low}..{high - 1})"
+    )
+
+
+@dataclass(frozen=True)
+class MeshQuality:
+    """Shape measures of a mesh's cells (angles in degrees).
+
+    ``max_aspect_ratio`` is the largest diameter**2 / area over the cells (a regular pentagon has
+    1.52); ``area_ratio`` is the smallest cell area over the largest.
+    """
+
+    min_angle: float
+    max_angle: float
+    max_aspect_ratio: float
+    min_area: float
+    max_area: float
+    area_ratio: float
+    not_strictly_convex: int
+
+    def as_dict(self) -> dict[str, float | int]:
+        """Plain dictionary (JSON-ready)."""
+        return {
+            "min_angle": self.min_angle,
+            "max_angle": self.max_angle,
+            "max_aspect_ratio": self.max_aspect_ratio,
+            "min_area": self.min_area,
+            "max_area": self.max_area,
+            "area_ratio": self.area_ratio,
+            "not_strictly_convex": self.not_strictly_convex,
+        }
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Mesh:
+    """A conforming all-pentagon mesh.
+
+    Attributes
+    ----------
+    points : ndarray (N, 2) float64
+        Node coordinates.
+    cells : ndarray (M, 5) int64
+        Node ids of each cell, counter-clockwise.
+    block_id : ndarray (M,) int64
+        The domain block each cell lies in.
+    parent : ndarray (M,) int64
+        The cell's parent at ``level - 1`` (-1 at level 0).
+    boundary_edges : ndarray (Eb, 2) int64
+        Boundary edges, oriented with the domain on their left.
+    boundary_patch : ndarray (Eb,) int64
+        Index into ``patch_names`` of each boundary edge.
+    patch_names : tuple of str
+    region : ndarray (M,) int64
+        Index into ``region_names`` of each cell.
+    region_names : tuple of str
+    level : int
+        Refinement level (0 = the block mesh).
+    name : str
+        Name of the domain the mesh was made from.
+    curves : CurvedEdges or None
+        The edges that lie on curved block edges, with the curve and the stretch of its parameter
+        each covers (:class:`blockmesh.curves.edges.CurvedEdges`); None when every edge is straight.
+        A Domain with curves passes them to its block mesh and :func:`blockmesh.refine` carries
+        them to every level. The ``.npz``, ``.xdmf`` and ``.vtu`` files keep them (a mesh read
+        back refines onto its curves); the other formats keep only the nodes, which are on the
+        curves, and their readers warn that refining such a mesh gives straight edges.
+    """
+
+    points: np.ndarray
+    cells: np.ndarray
+    block_id: np.ndarray
+    parent: np.ndarray
+    boundary_edges: np.ndarray
+    boundary_patch: np.ndarray
+    patch_names: tuple[str, ...]
+    region: np.ndarray
+    region_names: tuple[str, ...]
+    level: int = 0
+    name: str = ""
+    curves: CurvedEdges | None = None
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self._freeze()
+        self._check_arrays()
+        self._check_cells()
+
+    @classmethod
+    def _trusted(cls, *, check_ranges: bool = True, **values: Any) -> Mesh:
+        """A Mesh from arrays consistent by construction (refinement, a validated Domain).
+
+        Only the cheap O(M) checks of :meth:`_check_arrays` run (shapes, lengths and, unless
+        ``check_ranges`` is false, index ranges); orientation and boundary matching, which the
+        constructor also checks, are skipped. The refinement, whose indices come from the plan and
+        are tested against the paper's numbering, skips the ranges (a pass over every array).
+        """
+        mesh = object.__new__(cls)
+        for f in fields(cls):
+            if f.name in values:
+                value = values[f.name]
+            elif f.default_factory is not MISSING:
+                value = f.default_factory()
+            else:
+                value = f.default
+            object.__setattr__(mesh, f.name, value)
+        mesh._freeze()
+        mesh._check_arrays(ranges=check_ranges)
+        return mesh
+
+    def _freeze(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "points", _frozen(self.points, np.float64, "points", (2,)))
+        set_(self, "cells", _frozen(self.cells, np.int64, "cells", (5,)))
+        for name in ("block_id", "parent", "boundary_patch", "region"):
+            set_(self, name, _frozen(getattr(self, name), np.int64, name))
+        set_(self, "boundary_edges", _frozen(self.boundary_edges, np.int64, "boundary_edges", (2,)))
+        for name in ("patch_names", "region_names"):
+            names = getattr(self, name)
+            if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+                raise ArgumentTypeError(f"Mesh {name} must be a sequence of strings, got {names!r}")
+            if len(set(names)) != len(names):
+                raise ArgumentError(f"Mesh {name} must be different names, got {names!r}")
+            set_(self, name, tuple(names))
+        if isinstance(self.level, bool) or not isinstance(self.level, int | np.integer):
+            raise ArgumentTypeError(f"Mesh level must be a whole number, got {self.level!r}")
+        set_(self, "level", int(self.level))
+        if not isinstance(self.name, str):
+            raise ArgumentTypeError(f"Mesh name must be a string, got {self.name!r}")
+        if self.curves is not None and not isinstance(self.curves, CurvedEdges):
+            raise ArgumentTypeError(
+                f"Mesh curves must be a blockmesh.curves.CurvedEdges or None, got {self.curves!r}"
+            )
+
+    def _check_arrays(self, *, ranges: bool = True) -> None:
+        """Shapes, lengths and (O(M)) index ranges."""
+        n, m, eb = self.n_points, self.n_cells, int(self.boundary_edges.shape[0])
+        for name in ("block_id", "parent", "region"):
+            length = getattr(self, name).shape[0]
+            if length != m:
+                raise ArgumentError(f"Mesh {name} has {length} entries for {m} cells")
+        if self.boundary_patch.shape[0] != eb:
+            raise ArgumentError(
+                f"Mesh boundary_patch has {self.boundary_patch.shape[0]} entries for {eb} "
+                "boundary edges"
+            )
+        if not ranges:
+            return
+        points_note = f"there are {n} points"
+        _check_range(self.cells, 0, n, "cell", points_note)
+        _check_range(self.boundary_edges, 0, n, "boundary edge", points_note)
+        if self.curves is not None:
+            _check_range(self.curves.edges, 0, n, "curved edge", points_note)
+        _check_range(self.block_id, 0, np.iinfo(np.int64).max, "block_id of cell", "ids are >= 0")
+        _check_range(self.parent, -1, np.iinfo(np.int64).max, "parent of cell", "ids are >= -1")
+        _check_range(
+            self.boundary_patch,
+            0,
+            len(self.patch_names),
+            "boundary_patch of edge",
+            f"there are {len(self.patch_names)} patch names",
+        )
+        _check_range(
+            self.region,
+            0,
+            len(self.region_names),
+            "region of cell",
+            f"there are {len(self.region_names)} region names",
+        )
+
+    def _check_cells(self) -> None:
+        """Finite points, counter-clockwise cells, boundary edges exactly the free cell edges."""
+        if not np.all(np.isfinite(self.points)):
+            bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
+            raise ArgumentError(f"point {bad} {self.points[bad].tolist()} is not finite")
+        areas = np.empty(min(self.n_cells, _CHUNK))
+        for start in range(0, self.n_cells, _CHUNK):
+            cells = self.cells[start : start + _CHUNK]
+            part = signed_areas(self.points, cells, out=areas[: cells.shape[0]])
+            if not part[np.argmin(part)] > 0:  # argmin: NaN is found, as by min
+                bad = start + int(np.flatnonzero(~(part > 0))[0])
+                raise ArgumentError(
+                    f"cell {bad} (nodes {', '.join(map(str, self.cells[bad]))}) is clockwise or "
+                    "has no area; cells run counter-clockwise"
+                )
+        check_boundary(self.cells, self.boundary_edges, self.n_points)
+
+    @classmethod
+    def from_cells(
+        cls, points: np.ndarray, cells: np.ndarray, *, level: int = 0, name: str = ""
+    ) -> Mesh:
+        """A mesh from bare arrays: every cell its own block, one patch ``boundary``.
+
+        The boundary edges are found from the cells (edges used by one cell), oriented as the
+        cells run. The cells must be counter-clockwise pentagons meeting edge to edge; use
+        :class:`blockmesh.Domain` to have that checked.
+
+        Examples
+        --------
+        >>> sp = np.array([[-1, -1], [1, -1], [2, 0], [0, 1], [-2, 0]], dtype=float)
+        >>> mesh = Mesh.from_cells(sp, [[0, 1, 2, 3, 4]])
+        >>> mesh.boundary_edges.tolist()
+        [[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]]
+        """
+        points = np.asarray(points, dtype=np.float64)
+        cells = np.asarray(cells, dtype=np.int64).reshape(-1, 5)
+        boundary = boundary_of_cells(cells, points.shape[0])
+        n = cells.shape[0]
+        return cls(
+            points=points,
+            cells=cells,
+            block_id=np.arange(n),
+            parent=np.full(n, -1),
+            boundary_edges=boundary,
+            boundary_patch=np.zeros(boundary.shape[0], dtype=np.int64),
+            patch_names=("boundary",),
+            region=np.zeros(n, dtype=np.int64),
+            region_names=("domain",),
+            level=level,
+            name=name,
+        )
+
+    # ----------------------------------------------------------------- sizes
+    @property
+    def n_points(self) -> int:
+        """Number of nodes N."""
+        return int(self.points.shape[0])
+
+    @property
+    def n_cells(self) -> int:
+        """Number of cells M."""
+        return int(self.cells.shape[0])
+
+    @property
+    def n_edges(self) -> int:
+        """Number of unique edges: (5 M + boundary edges) / 2, as every other edge has two cells."""
+        return (5 * self.n_cells + int(self.boundary_edges.shape[0])) // 2
+
+    def edges(self) -> np.ndarray:
+        """Unique undirected edges (E, 2) as (lower id, higher id), cached. O(M), no sorting.
+
+        Cells run counter-clockwise, so an edge two cells share runs one way in one and the other
+        way in the other: each is listed once where it runs from its lower node to its higher.
+        Boundary edges, in one cell only, are added where they run downwards. Edges come in the
+        order of the cells (boundary edges running downwards last).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> blockmesh.load_domain("joined-2").mesh(0).edges().tolist()
+        [[0, 1], [1, 2], [2, 3], [3, 4], [1, 5], [5, 6], [6, 7], [2, 7], [0, 4]]
+        """
+        if "edges" not in self._cache:
+            edges = np.empty((self.n_edges, 2), dtype=np.int64)
+            filled = 0
+            for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
+                tail = self.cells[start : start + _BANDWIDTH_CHUNK]
+                head = tail[:, [1, 2, 3, 4, 0]]
+                upward = tail < head
+                count = int(np.count_nonzero(upward))
+                edges[filled : filled + count, 0] = tail[upward]
+                edges[filled : filled + count, 1] = head[upward]
+                filled += count
+            down = self.boundary_edges[self.boundary_edges[:, 0] > self.boundary_edges[:, 1]]
+            if filled + down.shape[0] != edges.shape[0]:
+                raise DomainError(
+                    "the cells do not meet edge to edge with consistent orientation; the mesh "
+                    "is broken"
+                )
+            edges[filled:] = down[:, ::-1]
+            edges.setflags(write=False)
+            self._cache["edges"] = edges
+        return self._cache["edges"]
+
+    def cell_coordinates(self) -> np.ndarray:
+        """Corner coordinates of every cell, shape (M, 5, 2)."""
+        return self.points[self.cells]
+
+    def cell_areas(self) -> np.ndarray:
+        """Area of every cell (positive for counter-clockwise cells), shape (M,).
+
+        Measured relative to each cell's first corner: differences of nearby points lose no
+        digits, so areas do not depend on where the mesh lies (a unit square at 1e9 has area 1).
+        """
+        return signed_areas(self.points, self.cells)
+
+    def _measures(self, progress: Callable[[int, int], None] | None = None) -> CellMeasures:
+        """Areas, angles, aspect and convexity of all cells, measured once (cached)."""
+        if "measures" not in self._cache:
+            self._cache["measures"] = measure_cells(self, progress=progress)
+        return self._cache["measures"]
+
+    @property
+    def area(self) -> float:
+        """Total area of the mesh (sum of cell areas)."""
+        return self._measures().area
+
+    def curved_cell_areas(self) -> np.ndarray:
+        """Area of every cell bounded by its curved edges (the exact geometry), shape (M,).
+
+        A cell's straight area plus the signed area between each of its curved edges and the
+        chord (closed forms; see :func:`blockmesh.curves.edges.area_corrections`). Equals
+        :meth:`cell_areas` when the mesh has no curves.
+        """
+        return self.cell_areas() + area_corrections(self.cells, self.n_points, self.curves)
+
+    @property
+    def curved_area(self) -> float:
+        """Total area of the mesh bounded by its curved edges (its :attr:`area` without curves).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> disc = blockmesh.load_domain("disc")
+        >>> mesh = disc.mesh(2)
+        >>> round(mesh.curved_area, 12), mesh.area < mesh.curved_area
+        (3.14159265359, True)
+        """
+        return float(np.sum(self.curved_cell_areas()))
+
+    # --------------------------------------------------------------- quality
+    def quality(
+        self, *, chunk: int | None = None, progress: Callable[[int, int], None] | None = None
+    ) -> MeshQuality:
+        """Angles, aspect ratios and areas of the cells, in chunks (bounded memory).
+
+        One pass over the cells, shared with :attr:`area`, :meth:`check_geometry` and
+        :meth:`bandwidth` and cached; ``chunk`` (cells per pass step) changes the memory used, not
+        the measures (the areas are summed chunk by chunk, so :attr:`area` may differ in its last
+        bits with it).
+        ``progress(done, total)`` hears how many cells are measured, when they are.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> q = blockmesh.load_domain("sp").mesh(1).quality()
+        >>> round(q.min_angle, 1), round(q.max_angle, 1), q.not_strictly_convex
+        (56.3, 150.3, 0)
+        """
+        m = self._measures(progress) if chunk is None else measure_cells(self, chunk=chunk)
+        ratio = m.min_area / m.max_area if m.max_area > 0 else 0.0
+        return MeshQuality(
+            m.min_angle,
+            m.max_angle,
+            m.max_aspect_ratio,
+            m.min_area,
+            m.max_area,
+            ratio,
+            m.not_strictly_convex,
+        )
+
+    def check_geometry(self) -> None:
+        """Raise DomainError unless every cell is a strictly convex, counter-clockwise polygon.
+
+        The final guard before a mesh is written or reported as made: O(M), in chunks. A corner
+        counts as straight when the sine of its turn is at most
+        :data:`~blockmesh.geometry.COLLINEAR_SIN_TOL`.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> blockmesh.load_domain("sp").mesh(3).check_geometry()
+        """
+        if not np.all(np.isfinite(self.points)):
+            bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
+            raise DomainError(f"point {bad} {self.points[bad].tolist()} is not finite")
+        measures = self._measures()
+        failed, first = measures.invalid, measures.first_invalid
+        if failed:
+            corners = self.points[self.cells[first]]
+            raise DomainError(
+                f"{failed:,} of the {self.n_cells:,} cells are not strictly convex and "
+                f"counter-clockwise, the first being cell {first} with corners "
+                f"{', '.join(f'({x:.17g}, {y:.17g})' for x, y in corners)}; the mesh is broken "
+                "(far from the origin double precision may not resolve its cells)"
+            )
+
+    # ------------------------------------------------------------- numbering
+    def bandwidth(self) -> int:
+        """Largest difference between two node ids of one cell (the half-bandwidth of an FE matrix).
+
+        Read from the cell measures when :meth:`quality` (or :attr:`area`) has measured them
+        already (they find it in the same pass); otherwise one pass of its own.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> blockmesh.load_domain("sp").mesh(1).bandwidth()
+        14
+        """
+        if "measures" in self._cache:
+            return self._cache["measures"].bandwidth
+        work = np.empty((2, _BANDWIDTH_CHUNK), dtype=np.int64)
+        widest = 0
+        for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
+            columns = self.cells[start : start + _BANDWIDTH_CHUNK].T
+            widest = max(widest, widest_id_spread(columns, work[:, : columns.shape[1]]))
+        return widest
+
+    def renumbered(self, order: np.ndarray) -> Mesh:
+        """The same mesh with node ``order[k]`` renamed ``k`` (a permutation of ``0..N-1``).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> again = mesh.renumbered(np.arange(mesh.n_points)[::-1])
+        >>> bool(np.allclose(again.points[again.cells], mesh.points[mesh.cells]))
+        True
+        """
+        try:
+            order = np.asarray(order, dtype=np.int64)
+        except (TypeError, ValueError) as error:
+            raise ArgumentTypeError(
+                f"order must be an array of node ids, got {type(order).__name__} {order!r:.60}"
+            ) from error
+        if order.shape != (self.n_points,) or not np.array_equal(
+            np.sort(order), np.arange(self.n_points)
+        ):
+            raise ArgumentError("order must be a permutation of the node ids 0..N-1")
+        new_id = np.empty_like(order)
+        new_id[order] = np.arange(self.n_points)
+        return self._copy(
+            points=self.points[order],
+            cells=new_id[self.cells],
+            boundary_edges=new_id[self.boundary_edges],
+            curves=None if self.curves is None else self.curves.renumbered(new_id),
+        )
+
+    def with_rcm_numbering(self) -> Mesh:
+        """Nodes renumbered by reverse Cuthill-McKee (scipy) on the cell connectivity graph.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("square-cut").mesh(3)
+        >>> mesh.with_rcm_numbering().bandwidth() < mesh.bandwidth()
+        True
+        """
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+        rows = np.repeat(self.cells, 5, axis=1).ravel()
+        cols = np.tile(self.cells, (1, 5)).ravel()
+        graph = coo_matrix(
+            (np.ones(rows.size, dtype=np.int8), (rows, cols)), shape=(self.n_points,) * 2
+        ).tocsr()
+        order = reverse_cuthill_mckee(graph, symmetric_mode=True)
+        return self.renumbered(np.asarray(order, dtype=np.int64))
+
+    # ------------------------------------------------------------ boundaries
+    def patch_edges(self, patch: str) -> np.ndarray:
+        """Boundary edges (E, 2) of the named patch.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> blockmesh.load_domain("sp").mesh(2).patch_edges("boundary").shape
+        (20, 2)
+        """
+        if patch not in self.patch_names:
+            raise UnknownNameError(
+                f"no patch {patch!r}; the patches are {', '.join(self.patch_names)}"
+            )
+        return self.boundary_edges[self.boundary_patch == self.patch_names.index(patch)]
+
+    # ------------------------------------------------------------ copies
+    def _copy(self, **changes: Any) -> Mesh:
+        """A copy with some arrays replaced; the cheap checks run, the caches start empty."""
+        values = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "_cache"}
+        values.update(changes)
+        return Mesh._trusted(**values)
+
+    def with_patches(self, boundary_patch: Any, patch_names: Any) -> Mesh:
+        """The same mesh with its boundary edges put in other patches.
+
+        Parameters
+        ----------
+        boundary_patch : array_like (Eb,) int
+            Index into ``patch_names`` of every boundary edge, in the order of ``boundary_edges``.
+        patch_names : sequence of str
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> first = (np.arange(10) < 2).astype(int)
+        >>> mesh.with_patches(first, ["wall", "inlet"]).patch_edges("inlet").tolist()
+        [[0, 5], [5, 1]]
+        """
+        return self._copy(boundary_patch=boundary_patch, patch_names=tuple(patch_names))
+
+    def with_regions(self, region: Any, region_names: Any) -> Mesh:
+        """The same mesh with its cells put in other regions (``region`` indexes the names).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> mesh.with_regions(np.arange(6) % 2, ["even", "odd"]).region_names
+        ('even', 'odd')
+        """
+        return self._copy(region=region, region_names=tuple(region_names))
+
+    def with_points(self, points: Any) -> Mesh:
+        """The same cells on moved nodes (e.g. after smoothing); orientation is checked again.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("sp").mesh(1)
+        >>> round(mesh.with_points(2 * mesh.points).area, 12)
+        20.0
+        """
+        moved = self._copy(points=points)
+        moved._check_cells()
+        return moved
+
+    def with_name(self, name: str) -> Mesh:
+        """The same mesh under another name."""
+        return self._copy(name=name)
+
+    def __repr__(self) -> str:
+        """A one-line summary (the arrays are not printed)."""
+        name = f"{self.name!r}, " if self.name else ""
+        return (
+            f"Mesh({name}level {self.level}: {self.n_cells:,} cells, {self.n_points:,} points, "
+            f"{self.boundary_edges.shape[0]:,} boundary edges; patches "
+            f"{', '.join(self.patch_names) or '-'}; regions {', '.join(self.region_names) or '-'})"
+        )
+
+    def nbytes(self) -> int:
+        """Bytes held by the mesh's arrays."""
+        arrays = (self.points, self.cells, self.block_id, self.parent, self.region)
+        return (
+            sum(a.nbytes for a in arrays) + self.boundary_edges.nbytes + self.boundary_patch.nbytes
+        )

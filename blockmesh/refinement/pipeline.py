@@ -1,0 +1,510 @@
+"""Refinement of a block mesh into a conforming all-pentagon mesh, numbered like the paper.
+
+Each cell splits into six (paper eq. 1a): the corners ``v_i``, the edge midpoints
+``u_i = (v_i + v_i+1) / 2`` and the inner points ``w_i = (u_i + p) / 2`` with ``p`` the vertex
+mean. Level by level, cells in order, each cell numbers the midpoints of its edges that are not
+numbered yet, then its five inner points (the paper's ``nodaladdressesforpentagon``, 0-based).
+
+How it is fast: the numbering of one refined pentagon does not depend on its shape, so it is built
+once per level (:mod:`blockmesh.refinement.template`) and every block maps its local node ids to
+global ids with whole-array operations (:mod:`blockmesh.refinement.plan`). A node on an edge shared
+by two blocks is numbered by the lower block, exactly as the paper's walk does, and the higher block
+reads the same ids back along the edge. Coordinates are computed level by level from the parent
+cells with the paper's arithmetic. Blocks, in groups, are refined independently on worker threads
+straight into the output (:mod:`blockmesh.refinement.grouped`); a deep refinement first refines the
+base and uses its cells as blocks, which the nested numbering makes the same mesh bit for bit.
+
+Examples
+--------
+>>> import blockmesh
+>>> mesh = blockmesh.refine(blockmesh.load_domain("square-cut"), 2)
+>>> mesh.n_cells, mesh.n_points, mesh.level
+(144, 241, 2)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Protocol, overload
+
+import numpy as np
+
+import blockmesh.refinement.grouped as grouped
+from blockmesh._system.memory import available_memory, format_bytes, format_count
+from blockmesh.checks import choice, whole_number
+from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
+from blockmesh.geometry.topology import boundary_slots, cell_neighbours
+from blockmesh.mesh.mesh import Mesh
+from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
+from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
+from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
+from blockmesh.refinement.local import refine_locally
+from blockmesh.refinement.placement import (
+    LaplacianSmoothing,
+    PaperPlacement,
+    Placement,
+    as_placement,
+)
+from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
+from blockmesh.refinement.plan import place_level as _place_level
+from blockmesh.refinement.sizes import MeshSize, largest_fitting_level, predict_size
+from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
+from blockmesh.refinement.template import node_count, pentagon_template
+
+__all__ = ["MAX_LEVEL", "MAX_SMOOTH", "NUMBERINGS", "check_level", "refine"]
+
+#: Node numberings :func:`refine` offers.
+NUMBERINGS = ("nested", "rcm")
+#: Highest level asked for that is answered with a size estimate (every level multiplies the
+#: cells by 6, so level 30 is beyond any machine already); higher levels are refused outright.
+MAX_LEVEL = 10_000
+#: Most Laplacian sweeps per level (``smooth``): a few cure most of the distortion.
+MAX_SMOOTH = 1_000
+
+ProgressCallback = Callable[[int, int], None]
+
+
+class BlockSource(Protocol):
+    """What :func:`refine` refines besides a Mesh: anything with a block mesh (a Domain)."""
+
+    def block_mesh(self) -> Mesh:
+        """The blocks as a level-0 mesh."""
+        ...
+
+
+# --------------------------------------------------------------------------- refinement
+def _block_mesh_of(target: BlockSource | Mesh | PolygonMesh) -> Mesh:
+    if isinstance(target, Mesh):
+        return target
+    if not isinstance(target, PolygonMesh) and callable(getattr(target, "block_mesh", None)):
+        return target.block_mesh()
+    raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
+
+
+@overload
+def refine(
+    domain_or_mesh: BlockSource | Mesh,
+    level: int,
+    *,
+    cells: None = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> Mesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+@overload
+def refine(
+    domain_or_mesh: PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> PolygonMesh: ...
+
+
+def refine(
+    domain_or_mesh: BlockSource | Mesh | PolygonMesh,
+    level: int | None = None,
+    *,
+    cells: Any = None,
+    scheme: str = "pentagons",
+    numbering: str = "nested",
+    smooth: int = 0,
+    placement: str | Placement = "paper",
+    max_memory: int | None = None,
+    progress: ProgressCallback | None = None,
+    threads: int | None = None,
+) -> Mesh | PolygonMesh:
+    """Refine a domain (or a mesh) ``level`` times: every cell becomes 6**level pentagons.
+
+    With ``cells=``, only the marked cells are split (local refinement,
+    :mod:`blockmesh.refinement.local`): their new edge nodes become straight vertices (hanging
+    nodes, at most one per side) of their coarse neighbours, and the result is a
+    :class:`~blockmesh.mesh.polygons.PolygonMesh`.
+
+    Parameters
+    ----------
+    domain_or_mesh : Domain, Mesh or PolygonMesh
+        A Domain is refined from its block mesh (level 0); a Mesh from its own cells, so
+        ``refine(refine(d, 2), 1)`` equals ``refine(d, 3)``. A PolygonMesh is refined by the
+        local rule (every cell marked, unless ``cells`` says otherwise).
+    level : int
+        How many times each cell is split (>= 0). The result's ``level`` is the input's plus this.
+        With ``cells``, the rounds of local refinement (default 1).
+    cells : boolean mask, cell ids or callable, optional
+        The cells to split: a mask over the cells, their ids, or ``cells(mesh)`` returning
+        either (asked again on every round's mesh; ids and masks mark the children of the
+        marked cells in later rounds). A marking of no cell is an error.
+    scheme : {"pentagons", "quads"}
+        With ``cells``: how a marked cell is split (:data:`blockmesh.refinement.local.SCHEMES`):
+        the paper's six pentagons (its general-polygon form for other cells), or
+        quadrilaterals through the centre.
+    numbering : {"nested", "rcm"}
+        ``"nested"`` (default) is the paper's numbering: every node id of the previous level is
+        kept. ``"rcm"`` renumbers the nodes by reverse Cuthill-McKee to reduce the bandwidth.
+    smooth : int
+        Laplacian sweeps per level (see :mod:`blockmesh.refinement.smoothing`); 0 keeps the paper's
+        exact scheme. The same as ``placement=LaplacianSmoothing(smooth)``.
+    placement : str or Placement
+        Where the nodes of every new level go (:mod:`blockmesh.refinement.placement`):
+        ``"paper"`` (default, the paper's exact scheme), ``"optimized"``, ``"angles"``, or a
+        :class:`~blockmesh.refinement.placement.Placement`. Any but the paper's refines one level
+        at a time and places the nodes after each; cells, counts, patches and regions stay the
+        paper's.
+    max_memory : int, optional
+        Refuse to build a mesh needing more bytes than this (default: the memory available now).
+    progress : callable, optional
+        Called as ``progress(done, total)`` as the work proceeds (in the calling thread).
+    threads : int, optional
+        Worker threads sharing the blocks (default: the cores available, at most 8, or
+        ``BLOCKMESH_THREADS``). The result is the same bit for bit for any number.
+
+    Returns
+    -------
+    Mesh
+
+    Raises
+    ------
+    ResourceError
+        When the predicted size does not fit, naming the largest level that does.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> mesh = blockmesh.refine(blockmesh.load_domain("sp"), 1)
+    >>> mesh.cells[0].tolist(), mesh.points[10].tolist()
+    ([0, 5, 10, 14, 9], [0.0, -0.6])
+    >>> local = blockmesh.refine(mesh, cells=[0])
+    >>> local.n_cells, sorted(set(local.cell_sizes().tolist()))
+    (11, [5, 6])
+    """
+    if cells is not None or isinstance(domain_or_mesh, PolygonMesh):
+        if not (isinstance(placement, str) and placement == "paper"):
+            raise ArgumentError(
+                f"placement={placement!r} applies to uniform refinement; local refinement "
+                "(cells=, or a PolygonMesh) places the nodes by the paper's rule"
+            )
+        return _refine_locally(
+            domain_or_mesh, level, cells, numbering, smooth, max_memory, progress, threads, scheme
+        )
+    if scheme != "pentagons":
+        raise ArgumentError(
+            f"scheme={scheme!r} applies to local refinement (cells=); uniform refinement is the "
+            "paper's"
+        )
+    if level is None:
+        raise ArgumentError("refine() needs a level (how many times to split every cell)")
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
+    choice(numbering, NUMBERINGS, "numbering")
+    smooth = whole_number(smooth, "smooth", maximum=MAX_SMOOTH)
+    placement = as_placement(placement)
+    if isinstance(placement, LaplacianSmoothing):
+        if smooth not in (0, placement.sweeps):
+            raise ArgumentError(
+                f"smooth={smooth} and placement={placement!r} ask for two smoothings; give one"
+            )
+        smooth, placement = placement.sweeps, PaperPlacement()
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    if threads is not None:
+        threads = whole_number(threads, "threads", minimum=1)
+    base = _block_mesh_of(domain_or_mesh)
+    neighbour = cell_neighbours(base.cells, base.n_points)
+    n_shared = int(np.count_nonzero(neighbour >= 0)) // 2
+    _check_memory(base, n_shared, level, max_memory)
+    _check_precision(base, level)
+    try:
+        if placement.nested:
+            mesh = _build(base, neighbour, level, smooth, progress, threads)
+        else:
+            mesh = _build_placed(base, level, smooth, placement, progress, threads)
+    except MemoryError:
+        raise ResourceError(
+            f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
+            "although the prediction fitted (other programs may be using memory); try a lower "
+            "level or free memory"
+        ) from None
+    if numbering == "rcm":
+        mesh = mesh.with_rcm_numbering()
+    return mesh
+
+
+def _refine_locally(
+    target: BlockSource | Mesh | PolygonMesh,
+    level: int | None,
+    cells: Any,
+    numbering: str,
+    smooth: int,
+    max_memory: int | None,
+    progress: ProgressCallback | None,
+    threads: int | None,
+    scheme: str = "pentagons",
+) -> PolygonMesh:
+    """:func:`refine` with ``cells=``, or of a PolygonMesh: the local rule, round by round."""
+    rounds = 1 if level is None and cells is not None else level
+    if rounds is None:
+        raise ArgumentError("refine() of a PolygonMesh needs a level or cells=")
+    rounds = whole_number(rounds, "level")
+    choice(numbering, ("nested",), "numbering (local refinement keeps the nested numbering)")
+    if whole_number(smooth, "smooth"):
+        raise ArgumentError(
+            "smooth= applies to uniform refinement; local refinement keeps the paper's rule"
+        )
+    if threads is not None:
+        whole_number(threads, "threads", minimum=1)
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    mesh = target if isinstance(target, PolygonMesh) else _block_mesh_of(target)
+    if rounds == 0:
+        return as_polygon_mesh(mesh)
+    marking = cells if cells is not None else np.ones(mesh.n_cells, dtype=bool)
+    return refine_locally(
+        mesh, marking, rounds, max_memory=max_memory, progress=progress, scheme=scheme
+    )
+
+
+def _build_placed(
+    base: Mesh, level: int, smooth: int, placement: Placement, progress, threads: int | None
+) -> Mesh:
+    """One level at a time, the nodes of each new level placed by ``placement``."""
+    mesh = base
+    for step in range(level):
+        neighbour = cell_neighbours(mesh.cells, mesh.n_points)
+        mesh = placement.after_level(_build(mesh, neighbour, 1, smooth, None, threads))
+        if progress is not None:
+            progress(step + 1, level)
+    return mesh
+
+
+def _build(
+    base: Mesh,
+    neighbour: np.ndarray,
+    level: int,
+    smooth: int,
+    progress,
+    threads: int | None = None,
+) -> Mesh:
+    """The refined mesh; cells with curved edges follow the curve-aware rule in the same pass.
+
+    With smoothing, every block is refined at once level by level (the sweeps cross blocks) and
+    the curved cells are then recomputed by :func:`~blockmesh.refinement.curved.place_on_curves`.
+    """
+    has_curves = base.curves is not None and len(base.curves) > 0
+    if smooth:
+        mesh = _build_smoothed(base, neighbour, level, smooth, progress)
+        return place_on_curves(base, mesh, level, smooth) if has_curves else mesh
+    if level > grouped.BLOCK_LEVEL:
+        # Refine the base to the difference first and its cells as blocks (see BLOCK_LEVEL).
+        first = level - grouped.BLOCK_LEVEL
+        base = _build(base, neighbour, first, 0, None, threads)
+        neighbour = cell_neighbours(base.cells, base.n_points)
+        level -= first
+    curved = CurvedBlocks(base, level) if has_curves else None
+    refined = refine_blocks(
+        base, neighbour, level, curved=curved, threads=threads, progress=progress
+    )
+    return _assemble(base, refined, level, curved)
+
+
+def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
+    """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
+    plan = plan_refinement(base.cells, neighbour, base.n_points, level)
+    edge_ids = edge_id_table(plan)
+    template = pentagon_template(level)
+    ids = group_node_ids(plan, 0, base.n_cells, edge_ids, template=template)
+    local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
+    local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
+    points = np.empty(plan.n_nodes, dtype=np.complex128)
+    fixed = block_edge_nodes(ids, template)
+    for step in range(1, level + 1):
+        lo, hi = node_count(step - 1), node_count(step)
+        _place_level(local, template.steps[step - 1], lo)
+        level_cells = ids[:, template.cells_of_level(step)].reshape(-1, 5)
+        points[ids[:, :hi]] = local[:, :hi]
+        n_level = int(ids[:, :hi].max()) + 1
+        xy = points.view(np.float64).reshape(-1, 2)
+        smooth_interior(xy, level_cells, n_level, fixed, smooth)
+        local[:, :hi] = points[ids[:, :hi]]
+        if progress is not None:
+            progress(step, level)
+    np.put(points, ids, local, mode="clip")  # shared nodes get the same value twice
+    del local
+    cell, edge = np.divmod(
+        boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
+    )
+    per_block = 6**level
+    refined = RefinedBlocks(
+        points=points.view(np.float64).reshape(-1, 2),
+        cells=np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5),
+        block_id=_repeat(base.block_id, per_block),
+        parent=_parents(base.n_cells * per_block, level),
+        region=_repeat(base.region, per_block),
+        boundary_nodes=edge_ids[cell, edge],
+    )
+    return _assemble(base, refined, level)
+
+
+def _assemble(
+    base: Mesh, refined: RefinedBlocks, steps: int, curved: CurvedBlocks | None = None
+) -> Mesh:
+    """The Mesh of ``base`` refined ``steps`` times from the arrays ``refined``.
+
+    ``curved``, when given, has recorded every curved block: the mesh gets its refined curves.
+    """
+    along = refined.boundary_nodes
+    boundary_edges = np.stack([along[:, :-1], along[:, 1:]], axis=-1).reshape(-1, 2)
+    arrays = {
+        "points": refined.points,
+        "cells": refined.cells,
+        "block_id": refined.block_id,
+        "parent": refined.parent if steps else base.parent,  # no step: the same cells
+        "boundary_edges": boundary_edges,
+        "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
+        "region": refined.region,
+    }
+    for array in arrays.values():
+        array.setflags(write=False)
+    return Mesh._trusted(
+        check_ranges=False,
+        **arrays,
+        patch_names=base.patch_names,
+        region_names=base.region_names,
+        level=base.level + steps,
+        name=base.name,
+        curves=None if curved is None else curved.refined(),
+    )
+
+
+def _parents(n_cells: int, steps: int) -> np.ndarray:
+    """Parent of each refined cell: cell c comes from cell c // 6 (none without refinement)."""
+    if steps == 0:
+        return np.full(n_cells, -1, dtype=np.int64)
+    return np.repeat(np.arange(n_cells // 6, dtype=np.int64), 6)
+
+
+def _repeat(values: np.ndarray, count: int) -> np.ndarray:
+    """``np.repeat(values, count)``; all zeros come from ``np.zeros`` (lazily zeroed memory)."""
+    if not np.any(values):
+        return np.zeros(values.size * count, dtype=np.int64)
+    return np.repeat(values, count)
+
+
+def check_level(
+    domain_or_mesh: BlockSource | Mesh, level: int, *, max_memory: int | None = None
+) -> None:
+    """Raise now if refining ``domain_or_mesh`` ``level`` times cannot be done.
+
+    The checks :func:`refine` makes before it builds anything: a whole number ``level`` up to
+    :data:`MAX_LEVEL`, a predicted size within ``max_memory`` (default: the memory available),
+    cells that double precision resolves. For callers that refine one level at a time.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> check_level(blockmesh.load_domain("sp"), 60)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ResourceError: level 60 of 'sp' needs about 10^48 B ...
+    """
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    base = _block_mesh_of(domain_or_mesh)
+    neighbour = cell_neighbours(base.cells, base.n_points)
+    _check_memory(base, int(np.count_nonzero(neighbour >= 0)) // 2, level, max_memory)
+    _check_precision(base, level)
+
+
+def _check_memory(base: Mesh, n_shared: int, level: int, max_memory: int | None) -> None:
+    n_boundary = 5 * base.n_cells - 2 * n_shared
+    limit = available_memory() if max_memory is None else int(max_memory)
+
+    def size(steps: int) -> MeshSize:
+        return predict_size(
+            base.n_cells, base.n_points, n_shared, n_boundary, steps, base.level + steps
+        )
+
+    wanted = size(level)
+    if wanted.peak_bytes <= limit:
+        return
+
+    fits = largest_fitting_level(size, level, limit)  # type: ignore[arg-type]
+    source = "the limit given" if max_memory is not None else "the memory available now"
+    advice = (
+        f"the largest level that fits is {base.level + fits}"
+        if fits >= 0
+        else "not even the unrefined mesh fits"
+    )
+    name = f" of {base.name!r}" if base.name else ""
+    raise ResourceError(
+        f"level {base.level + level}{name} needs about {format_bytes(wanted.peak_bytes)} "
+        f"({format_count(wanted.cells)} cells, {format_count(wanted.nodes)} nodes), more than "
+        f"{source} ({format_bytes(limit)}); {advice}"
+    )
+
+
+#: Each level shrinks the shortest cell edge by at most this factor (half the length, and the
+#: inner cells' worsening shape; measured 0.43..0.5 per level on the catalogue).
+_EDGE_SHRINK = 0.4
+#: Shortest edge allowed, in units of the coordinates' spacing (ulp) where the mesh lies.
+_MIN_EDGE_ULPS = 64
+
+
+def _check_precision(base: Mesh, level: int) -> None:
+    """Refuse a level whose cells double precision cannot resolve where the mesh lies.
+
+    Far from the origin the spacing of float64 numbers (their ulp) grows: at 1e15 it is 0.125, so
+    a unit square there cannot hold cells a tenth across. The shortest edge at ``level`` is
+    estimated from the base's shortest edge and compared with the ulp of the largest coordinate.
+    """
+    if level == 0 or base.n_cells == 0:
+        return
+    xy = base.points[base.cells]
+    edges = np.hypot(*(np.roll(xy, -1, axis=1) - xy).transpose(2, 0, 1))
+    shortest = float(edges.min())
+    spacing = float(np.spacing(np.max(np.abs(base.points))))
+    finest = next(
+        (k for k in range(level + 1) if shortest * _EDGE_SHRINK**k < _MIN_EDGE_ULPS * spacing),
+        None,
+    )
+    if finest is None:
+        return
+    where = float(np.max(np.abs(base.points)))
+    usable = (
+        f"the highest level it resolves is {base.level + finest - 1}"
+        if finest > 0
+        else "not even the unrefined mesh is resolved"
+    )
+    raise ResourceError(
+        f"level {base.level + level} would need cells about "
+        f"{shortest * _EDGE_SHRINK**level:.2g} across at coordinates near {where:.3g}, where "
+        f"double precision only resolves steps of {spacing:.2g}; {usable}. Move the domain "
+        "near the origin (subtract a point inside it from every vertex) to refine further"
+    )
