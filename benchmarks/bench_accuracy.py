@@ -239,7 +239,7 @@ def square_triangles(n: int):
 
 
 def optimized_levels(domain, level: int) -> Mesh:
-    """The mesh of ``blockmesh mesh --quality-rule optimized`` (node placement after each level)."""
+    """The mesh of ``blockmesh mesh --placement optimized`` (node placement after each level)."""
     return refine_with_rule(domain, level, rule="optimized")
 
 

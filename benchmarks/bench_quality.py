@@ -2,8 +2,8 @@
 
 Run: ``python benchmarks/bench_quality.py [NAMES...]`` (gmsh with ``pip install -e '.[bench]'``).
 For each domain given as a polygon (with holes) in the catalogue, meshes it at ``--level``
-(default 3) with the paper's node placement, with ``--quality-rule optimized`` (corner
-distortion plus uniform cell sizes, after every level) and with ``--quality-rule angles`` (the
+(default 3) with the paper's node placement, with ``--placement optimized`` (corner
+distortion plus uniform cell sizes, after every level) and with ``--placement angles`` (the
 worst corners weighted most, every cell keeping its size); then asks gmsh for a triangle mesh
 and a quadrilateral mesh (Frontal-Delaunay for quads, blossom recombination) of the same
 polygon with about the same number of cells (the mesh size is corrected until the count is
@@ -135,8 +135,8 @@ DASH = "\u2013"  # between the ends of a range
 
 ABOUT = """\
 Level-3 meshes of the catalogue's decomposed domains with the paper's node placement,
-`--quality-rule optimized` (corner distortion plus uniform cell sizes, after every level) and
-`--quality-rule angles` (the worst corners weighted most, every cell keeping its size), beside
+`--placement optimized` (corner distortion plus uniform cell sizes, after every level) and
+`--placement angles` (the worst corners weighted most, every cell keeping its size), beside
 gmsh's triangle and quadrilateral meshes (Frontal-Delaunay, blossom recombination) of the same
 polygon with the same number of cells within 5 %: each mesh's smallest and largest interior
 angle. The smallest corner of the domain itself is shown too: no cell at that corner can have a

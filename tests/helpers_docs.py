@@ -73,14 +73,14 @@ NEEDS = {
 SLOW = {
     "bar = solve_elasticity(": "VEM solves on a level-4 mesh, AMG included",
     "--partitions 4 --workers 2": "starts a local Dask cluster",
-    "blockmesh mesh star --level 3 --quality-rule angles": "optimises 14,256 cells' nodes",
+    "blockmesh mesh star --level 3 --placement angles": "optimises 14,256 cells' nodes",
     "'mydomains/*.toml' sp ring --level 5": "three meshes at level 5, written as VTU",
     "square-cut l-shape ring --level 4 --plot": "three meshes drawn on two cores",
     "--adapt --max-unknowns 20000": "twelve adaptive solves, up to 13,000 unknowns",
 }
 
 #: Inline code that starts with ``blockmesh`` but names an option, not a command to run.
-NOT_COMMANDS = {"blockmesh mesh --quality-rule optimized"}
+NOT_COMMANDS = {"blockmesh mesh --placement optimized"}
 
 
 @dataclass(frozen=True)

@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from blockmesh.commands.common import print_json
+from blockmesh.commands.options import add_json_option
 from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.domain.loading import load_domain
 
@@ -17,7 +18,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="list the catalogue of ready-made domains",
         description="List the catalogue domains: name, blocks, area, patches, description.",
     )
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 

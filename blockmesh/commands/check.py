@@ -15,6 +15,7 @@ from blockmesh.commands.common import (
     printable,
     resolve_target,
 )
+from blockmesh.commands.options import add_json_option
 from blockmesh.domain.blockgraph import certificate
 from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
@@ -35,7 +36,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "prints the located errors and exits 1 otherwise.",
     )
     add_domain_arguments(parser)
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 

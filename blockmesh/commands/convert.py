@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from blockmesh.commands.common import check_folders, check_level_options, print_json, printable
+from blockmesh.commands.options import add_json_option, add_level_option
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import ArgumentError
 from blockmesh.io import SPLITS, write
@@ -33,13 +34,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="OUT",
         help="a .toml domain file, or a mesh file in any format 'blockmesh mesh' writes",
     )
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        default=0,
-        metavar="L",
-        help="refinement levels for a mesh output (default 0: the blocks themselves)",
+    add_level_option(
+        parser, "refinement levels for a mesh output (default 0: the blocks themselves)", 0
     )
     parser.add_argument(
         "--format", metavar="FORMAT", help="output format, overriding the extension"
@@ -48,7 +44,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--split", choices=SPLITS, help="how .msh output splits pentagons (gmsh has no pentagons)"
     )
     parser.add_argument("--name", help="the domain's name (default: the input file's stem)")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 

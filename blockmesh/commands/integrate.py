@@ -18,6 +18,7 @@ from blockmesh.commands.common import (
     printable,
     resolve_target,
 )
+from blockmesh.commands.options import add_json_option, add_level_option, add_renamed_flag
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -44,8 +45,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Integrate a function of x and y over the domain's pentagon mesh at a level, "
         "with the paper's composite Gauss-Legendre rule (or a cheaper one), or to a tolerance "
         "(--tol picks the order and level). Every result comes with an error estimate, and a "
-        "warning when it is large (a singular, divergent or unresolved integrand). --exact adds "
-        "the exact integral of a polynomial.",
+        "warning when it is large (a singular, divergent or unresolved integrand). "
+        "--exact-integral adds the exact integral of a polynomial.",
         epilog='example: blockmesh integrate sp --function "(x^4 + y^3)/(1 + x^2)" --level 3',
     )
     add_domain_arguments(parser)
@@ -57,12 +58,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="f(x, y): numbers, x, y, pi, e, + - * / ^ (or **), and sin cos tan exp log sqrt abs "
         "... (see blockmesh.numerics.expr.FUNCTIONS)",
     )
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        metavar="L",
-        help=f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
+    add_level_option(
+        parser,
+        f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
         "own level; with --tol: the starting level, default 0)",
     )
     parser.add_argument(
@@ -78,10 +76,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="paper: the paper's rule (default); jacobi, fan: fewer points, same degree "
         "(jacobi is the default with --tol)",
     )
-    parser.add_argument(
+    add_renamed_flag(
+        parser,
+        "--exact-integral",
         "--exact",
-        action="store_true",
-        help="also the exact integral over the domain (polynomials only), as a fraction",
+        dest="exact",
+        help="also the exact integral over the domain (polynomials only), as a fraction "
+        "(--exact is the earlier spelling)",
     )
     parser.add_argument(
         "--exact-geometry",
@@ -106,7 +107,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "requests are refused before any work",
     )
     add_partition_arguments(parser, "integrate")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 

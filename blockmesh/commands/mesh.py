@@ -32,16 +32,22 @@ from blockmesh.commands.common import (
     levels_to_add,
     load_target,
     parse_patch_options,
-    parse_size,
     print_json,
     printable,
+)
+from blockmesh.commands.options import (
+    add_json_option,
+    add_level_option,
+    add_max_memory_option,
+    add_placement_options,
+    add_plot_option,
 )
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, ResourceError
 from blockmesh.io import SPLITS, check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
-from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.improve import refine_with_rule
 from blockmesh.refinement.local import SCHEMES, predict_local_size, refine_locally
 from blockmesh.refinement.marking import (
     Marking,
@@ -68,12 +74,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "pentagons. Prints counts and quality; draws and writes the mesh on request.",
     )
     add_domain_arguments(parser, many=True)
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+    add_level_option(
+        parser,
+        f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file keeps its own level, and L more levels refine it further)",
     )
     parser.add_argument(
@@ -82,18 +85,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default="nested",
         help="node numbering: the paper's nested one (default) or reverse Cuthill-McKee",
     )
-    parser.add_argument(
-        "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (default 0)"
-    )
-    parser.add_argument(
-        "--quality-rule",
-        choices=QUALITY_RULES,
-        default="paper",
-        help="node placement: the paper's (default); optimized after every level, cell sizes "
-        "made uniform; or angles: optimized after every level against the worst corners, cells "
-        "keeping their sizes (for decomposed, graded domains). Every node off the boundary moves, "
-        "boundary nodes slide along it; see blockmesh.refinement.improve",
-    )
+    add_placement_options(parser, "the mesh")
     parser.add_argument(
         "-o",
         "--output",
@@ -158,20 +150,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="K",
         help="rounds of local refinement (default 1)",
     )
-    parser.add_argument("--plot", metavar="PNG", help="draw the mesh")
+    add_plot_option(parser, "the mesh")
     parser.add_argument(
         "--quality-plot", metavar="PNG", help="histograms of angles and aspect ratios"
     )
-    parser.add_argument(
-        "--max-memory",
-        type=parse_size,
-        metavar="SIZE",
-        help="refuse meshes predicted to need more memory (e.g. 4G; default: what is available)",
-    )
+    add_max_memory_option(parser, "meshes")
     add_partition_arguments(
         parser, "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
     )
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 

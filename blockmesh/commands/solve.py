@@ -26,15 +26,22 @@ from blockmesh.commands.common import (
     check_folders,
     check_level_options,
     levels_to_add,
-    parse_size,
     print_json,
     printable,
     resolve_target,
 )
+from blockmesh.commands.options import (
+    RenamedOption,
+    add_json_option,
+    add_level_option,
+    add_max_memory_option,
+    add_placement_options,
+    add_plot_option,
+)
 from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.mesh.mesh import Mesh
-from blockmesh.refinement.improve import QUALITY_RULES, refine_with_rule
+from blockmesh.refinement.improve import refine_with_rule
 from blockmesh.refinement.sizes import MemoryPrediction, check_fits, solve_command_predictor
 from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poisson
 from blockmesh.vem.fields import scalar_field, split_pair
@@ -55,20 +62,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="solve a Poisson or elasticity problem on the mesh (virtual elements)",
         description="Solve a diffusion-reaction (Poisson) or plane elasticity problem on "
         "DOMAIN's pentagon mesh at LEVEL with lowest-order virtual elements; report unknowns, "
-        "cost and, with --exact, the errors; write the solution for ParaView. DOMAIN may be a "
+        "cost and, with --exact-solution, the errors; write the solution for ParaView. DOMAIN "
+        "may be a "
         "mesh file: the problem is solved on the mesh read, refined further by --level if given. "
         "The memory the solve needs (the direct solver's factorisation above all) is predicted "
         "first: a problem that does not fit is refused, naming the largest level that does.",
         epilog='example: blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
-        "--dirichlet '*=0' --exact \"sin(pi*x)*sin(pi*y)\"",
+        "--dirichlet '*=0' --exact-solution \"sin(pi*x)*sin(pi*y)\"",
     )
     add_domain_arguments(parser)
-    parser.add_argument(
-        "--level",
-        "-l",
-        type=int,
-        metavar="L",
-        help=f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
+    add_level_option(
+        parser,
+        f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file is solved on at its own level, refined further by --level if given; with "
         "--adapt the starting level, default 0)",
     )
@@ -96,7 +101,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "PATCH as for --dirichlet (a comma list, or *)",
     )
     parser.add_argument(
-        "--exact", metavar="EXPR", help="exact solution ('UX, UY' for elasticity): report errors"
+        "--exact-solution",
+        "--exact",
+        dest="exact",
+        metavar="EXPR",
+        action=RenamedOption,
+        help="the exact solution ('UX, UY' for elasticity): report the errors against it "
+        "(--exact is the earlier spelling)",
     )
     parser.add_argument("--diffusion", default="1", metavar="EXPR", help="kappa(x, y) (1)")
     parser.add_argument("--reaction", default="0", metavar="EXPR", help="c(x, y) (0)")
@@ -112,16 +123,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         choices=("mean", "rigid"),
         help="pure Neumann problems: zero mean (poisson) or no rigid motion (elasticity)",
     )
-    parser.add_argument(
-        "--smooth", type=int, default=0, metavar="K", help="Laplacian sweeps per level (0)"
-    )
-    parser.add_argument(
-        "--quality-rule",
-        choices=QUALITY_RULES,
-        default="paper",
-        help="node placement of the mesh: the paper's (default), or optimized or angles after "
-        "every level (see blockmesh mesh --help)",
-    )
+    add_placement_options(parser, "the mesh")
     parser.add_argument(
         "--order", type=int, default=3, metavar="N", help="quadrature order of the loads (3)"
     )
@@ -140,18 +142,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="linear solver: direct (sparse LU; its memory grows as n log n) or amg (algebraic "
         "multigrid, for large problems; needs pyamg)",
     )
-    parser.add_argument(
-        "--max-memory",
-        type=parse_size,
-        metavar="SIZE",
-        help="refuse problems predicted to need more memory (e.g. 4G; default: what is available)",
-    )
+    add_max_memory_option(parser, "problems")
     parser.add_argument(
         "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
     )
-    parser.add_argument("--plot", metavar="PNG", help="draw the solution")
+    add_plot_option(parser, "the solution")
     add_adaptive_arguments(parser)
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 

@@ -1,13 +1,14 @@
-"""``blockmesh solve --adapt``: solve, estimate, mark, refine the marked cells; repeat.
+r"""``blockmesh solve --adapt``: solve, estimate, mark, refine the marked cells; repeat.
 
 The options of the adaptive loop (:func:`blockmesh.vem.adaptive.solve_adaptive`) and its report:
-one progress line per step (unknowns, estimator, and with ``--exact`` the errors and the
+one progress line per step (unknowns, estimator, and with ``--exact-solution`` the errors and the
 effectivity), then the final mesh and solution. ``--json`` prints one object whose ``history``
 lists every step.
 
 Example, the L-shape's corner singularity::
 
-    blockmesh solve l-shape --adapt --max-unknowns 20000 --source 0 --dirichlet "*=U" --exact U
+    blockmesh solve l-shape --adapt --max-unknowns 20000 --source 0 --dirichlet "*=U" \
+        --exact-solution U
 
 with ``U = ((x-1)^2+(y-1)^2)^(1/3)*cos(2/3*atan2(x-y, 2-x-y))`` (``r^(2/3) sin(2θ/3)`` about the
 re-entrant corner).

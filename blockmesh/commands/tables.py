@@ -6,9 +6,10 @@ import argparse
 from pathlib import Path
 
 from blockmesh._system.atomic import atomic_file
-from blockmesh.commands.common import check_folders, printable
+from blockmesh.commands.common import check_folders, print_json, printable
+from blockmesh.commands.options import add_json_option, add_plot_option
 from blockmesh.quadrature import RULES
-from blockmesh.tables import PENTAGONS, TABLES, compute_table, format_table, write_csv
+from blockmesh.tables import PENTAGONS, TABLES, PaperTable, compute_table, format_table, write_csv
 from blockmesh.tables.plot import plot_convergence
 
 __all__ = ["register", "run"]
@@ -82,9 +83,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--rule", choices=tuple(RULES), default="paper", help="quadrature rule (default paper)"
     )
     parser.add_argument("--csv", metavar="FILE", help="write every entry to a CSV file")
-    parser.add_argument(
-        "--plot", metavar="FILE.png", help="draw error vs level, one line per order (PNG)"
-    )
+    add_plot_option(parser, "the error against the level, one line per order")
+    add_json_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -99,23 +99,53 @@ def run(args: argparse.Namespace) -> int:
                 table, pentagon, levels=args.levels, orders=args.orders, rule=args.rule
             )
             results.append(result)
-            print(format_table(result))
-            print()
+            if not args.json:
+                print(format_table(result))
+                print()
     best = [(float(r.scaled_errors.min()), r) for r in results]
     worst, result = max(best, key=lambda item: item[0])
-    print(
-        f"{sum(r.values.size for r in results)} entries; the most accurate entry of each table "
-        f"is within {worst:.1e} x ∫|f| of the reference (worst: Table {result.case.table} "
-        f"{result.case.pentagon}; round-off floor 1e-13)"
-    )
+    entries = sum(r.values.size for r in results)
+    written = []
     if args.csv:
         with (
             atomic_file(Path(args.csv)) as temporary,
             open(temporary, "w", encoding="utf-8", newline="") as handle,
         ):
             rows = write_csv(results, handle)
-        print(f"wrote {rows} rows to {printable(args.csv)}")
+        written.append(f"wrote {rows} rows to {printable(args.csv)}")
     if args.plot:
         plot_convergence(results, args.plot)
-        print(f"wrote {printable(args.plot)}")
+        written.append(f"wrote {printable(args.plot)}")
+    if args.json:
+        print_json(
+            {
+                "entries": entries,
+                "worst_best_scaled_error": worst,
+                "tables": [_table_json(r) for r in results],
+                "csv": args.csv,
+                "plot": args.plot,
+            }
+        )
+        return 0
+    print(
+        f"{entries} entries; the most accurate entry of each table is within {worst:.1e} x ∫|f| "
+        f"of the reference (worst: Table {result.case.table} {result.case.pentagon}; round-off "
+        "floor 1e-13)"
+    )
+    for line in written:
+        print(line)
     return 0
+
+
+def _table_json(result: PaperTable) -> dict[str, object]:
+    """One regenerated table as plain lists: rows are the orders, columns the levels."""
+    return {
+        "table": result.case.table,
+        "pentagon": result.case.pentagon,
+        "rule": result.rule,
+        "orders": list(result.orders),
+        "levels": list(result.levels),
+        "values": result.values.tolist(),
+        "errors": result.errors.tolist(),
+        "scaled_errors": result.scaled_errors.tolist(),
+    }

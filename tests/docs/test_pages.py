@@ -47,7 +47,7 @@ def test_every_kind_of_example_is_found() -> None:
         assert sum(e.kind == "python" for e in mine) == text.count("```python"), path
     texts = [e.text for e in found]
     assert "blockmesh show l-shape" in texts
-    assert "blockmesh mesh star --level 3 --quality-rule angles" in texts
+    assert "blockmesh mesh star --level 3 --placement angles" in texts
     every = texts + [e.text for e in examples(README)]
     for key in [*SKIP, *SETUP, *SLOW, *NEEDS]:
         assert any(key in t for t in every), f"{key!r} matches no example any more"
