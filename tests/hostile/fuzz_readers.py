@@ -100,7 +100,11 @@ def make_seeds(target: str, work: Path) -> list[Seed]:
             case.mkdir()
             name = "case" if target == "openfoam" else f"m.{target}"
             fmt = "openfoam" if target == "openfoam" else None
-            blockmesh.write(mesh, case / name, format=fmt, **options)
+            try:
+                blockmesh.write(mesh, case / name, format=fmt, **options)
+            except blockmesh.BlockMeshError:  # an option the polygon mesh does not take
+                shutil.rmtree(case)
+                continue
             seeds.append((_files_under(case), name))
     return seeds
 
@@ -298,7 +302,8 @@ def fuzz(
                     signal.setitimer(signal.ITIMER_REAL, 0)
             for warning in caught:
                 counts[f"warning {warning.category.__name__}"] += 1
-                said[f"{warning.category.__name__}: {str(warning.message)[:120]}"] += 1
+                at = f"{Path(warning.filename).name}:{warning.lineno}"
+                said[f"{warning.category.__name__} at {at}: {str(warning.message)[:120]}"] += 1
             took = time.monotonic() - begun
             case_peak = _peak()
             if took > slowest or case_peak > peak:

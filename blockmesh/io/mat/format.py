@@ -297,7 +297,8 @@ def _records(
             current_guard(where).expanded(len(raw), "Element")
         part = np.frombuffer(raw, dtype=record)
         rows = part["data"]
-        if not np.all(part["head"] == expected) or not np.all(rows == np.floor(rows)):
+        whole = (rows == np.floor(rows)) & (np.abs(rows) < 2.0**62)  # NaN and inf fail
+        if not np.all(part["head"] == expected) or not np.all(whole):
             return None
         cells[at : at + n] = rows
     cells -= 1
