@@ -384,3 +384,51 @@ def test_reads_honour_max_memory(tmp_path, suffix):
         tmp_path, "mesh", f"m{suffix}", "--level", "0", "--max-memory", "300K",
         names=(f"m{suffix}", "--max-memory"),
     )  # fmt: skip
+
+
+# ------------------------------------------------------------------ polygon meshes (issue 25)
+def _polygons() -> blockmesh.PolygonMesh:
+    return blockmesh.refine(_mesh(), cells=[0, 3])
+
+
+@pytest.mark.parametrize("level", [2e62, -7])
+def test_a_polygon_npz_of_an_impossible_level_is_refused(tmp_path, level):
+    path = blockmesh.write(_polygons(), tmp_path / "p.npz")
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["level"] = np.array(level)
+    np.savez(path, **arrays)
+    _check_refused(tmp_path, "check", "p.npz", names=("p.npz", "level"))
+
+
+def test_a_polygon_npz_of_infinite_points_is_located(tmp_path):
+    path = blockmesh.write(_polygons(), tmp_path / "p.npz")
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["points"] = arrays["points"].copy()
+    arrays["points"][4, 1] = np.inf
+    np.savez(path, **arrays)
+    _check_refused(tmp_path, "check", "p.npz", names=("p.npz", "point 4"))
+
+
+def test_an_xdmf_polygon_of_negative_size_ends_with_a_message(tmp_path):
+    # A foreign Mixed topology (no offsets beside it) walked record by record: a size of -2
+    # once sent the walk back to where it was, for ever.
+    (tmp_path / "p.xdmf").write_text(
+        '<?xml version="1.0"?><Xdmf Version="3.0"><Domain><Grid Name="m">'
+        '<Topology TopologyType="Mixed" NumberOfElements="1">'
+        '<DataItem Format="XML" NumberType="Int" Dimensions="6">3 -2 0 1 2 3</DataItem>'
+        "</Topology>"
+        '<Geometry GeometryType="XY"><DataItem Format="XML" Dimensions="4 2">'
+        "0 0 1 0 1 1 0 1</DataItem></Geometry></Grid></Domain></Xdmf>"
+    )
+    _check_refused(tmp_path, "check", "p.xdmf", names=("p.xdmf", "-2 nodes"))
+
+
+def test_an_openfoam_polygon_case_naming_a_missing_point_is_located(tmp_path):
+    blockmesh.write(_polygons(), tmp_path / "case", format="openfoam")
+    faces = tmp_path / "case" / "constant" / "polyMesh" / "faces"
+    text = faces.read_text()
+    at = text.rindex("6(")  # a hexagon (a split cell's centre): a face of the empty patch
+    faces.write_text(text[:at] + "6(999999 " + text[at + 2 :].split(" ", 1)[1])
+    _check_refused(tmp_path, "check", "case", names=("faces", "999999"))

@@ -144,7 +144,7 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
                 "faces of owner"
             )
     offsets, nodes = _faces(poly, start, count)
-    _check_ids(nodes, n_points, "the empty patch's node", where)
+    _check_ids(nodes, n_points, "the empty patch's node", f"{where}/faces")
     face_owner = owner[start : start + count]
     _check_ids(face_owner, count, "the owner of empty-patch face", where)  # 2 faces per cell
     zmin = points[:, 2].min(initial=0.0)
@@ -181,7 +181,7 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
         if size and np.any(np.diff(quad_offsets) != 4):
             raise ExportError(f"{where}: patch {p['name']} has side faces that are not quads")
         quads = np.asarray(quad_nodes, dtype=np.int64).reshape(-1, 4)
-        _check_ids(quads, n_points, f"a node of patch {p['name'][:60]!r}, entry", where)
+        _check_ids(quads, n_points, f"patch {p['name'][:60]!r}'s node", f"{where}/faces")
         lowq = on_bottom[quads]
         pair = lowq & np.roll(lowq, -1, axis=1)
         if np.any(pair.sum(axis=1) != 1):
