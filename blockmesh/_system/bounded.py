@@ -54,6 +54,7 @@ from blockmesh._system.memory import available_memory, format_bytes
 from blockmesh.errors import BlockMeshError, ExportError, ResourceError
 
 __all__ = [
+    "CHILD_LIMITS",
     "EXPANSION_SLACK",
     "MAX_EXPANSION",
     "Inflater",
@@ -177,6 +178,26 @@ def open_regular(
     if guard is not None:
         guard.opened(info.st_size)
     return handle
+
+
+#: Two helpers for the script of a child process that reads a file nobody vouches for (meshio
+#: in :mod:`blockmesh.io.sandbox`, h5py in :mod:`blockmesh.io.xdmf.hdf5_probe`): ``_vm()``, the
+#: child's address space in bytes, and ``_lower(kind, want)``, which lowers a resource limit
+#: (never above the hard limit the parent had). The script imports ``resource`` first.
+CHILD_LIMITS = """
+def _vm():
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmSize:"):
+                return int(line.split()[1]) * 1024
+    return 0
+
+def _lower(kind, want):
+    soft, hard = resource.getrlimit(kind)
+    if hard != resource.RLIM_INFINITY:
+        want = min(want, hard)
+    resource.setrlimit(kind, (want, want if hard == resource.RLIM_INFINITY else hard))
+"""
 
 
 # ------------------------------------------------------------------------------ the guard

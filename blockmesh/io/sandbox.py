@@ -40,7 +40,13 @@ from typing import Any
 
 import numpy as np
 
-from blockmesh._system.bounded import MAX_EXPANSION, check_regular, current_guard, open_regular
+from blockmesh._system.bounded import (
+    CHILD_LIMITS,
+    MAX_EXPANSION,
+    check_regular,
+    current_guard,
+    open_regular,
+)
 from blockmesh.errors import ExportError
 
 __all__ = [
@@ -71,19 +77,7 @@ memory, cpu = int(sys.argv[3]), int(sys.argv[4])
 import numpy as np
 import meshio
 
-def _vm():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmSize:"):
-                return int(line.split()[1]) * 1024
-    return 0
-
-def _lower(kind, want):
-    soft, hard = resource.getrlimit(kind)
-    if hard != resource.RLIM_INFINITY:
-        want = min(want, hard)
-    resource.setrlimit(kind, (want, want if hard == resource.RLIM_INFINITY else hard))
-
+{limits}
 used = resource.getrusage(resource.RUSAGE_SELF)
 _lower(resource.RLIMIT_AS, _vm() + memory)
 spent = int(used.ru_utime + used.ru_stime) + 1
@@ -144,7 +138,7 @@ except MemoryError:
     fail(4, "it needs more memory than allowed")
 except BaseException as error:
     fail(3, f"{type(error).__name__}: {error}")
-"""
+""".replace("{limits}", CHILD_LIMITS)
 
 
 def _limits(size: int) -> tuple[int, int]:

@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from blockmesh._system.bounded import CHILD_LIMITS
 from blockmesh.errors import ExportError
 
 __all__ = ["PROBE_MEMORY", "PROBE_OBJECTS", "PROBE_SECONDS", "Probe", "probe_hdf5"]
@@ -70,19 +71,7 @@ import json, os, resource, sys
 path, memory, objects = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 import h5py, numpy as np
 
-def _vm():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmSize:"):
-                return int(line.split()[1]) * 1024
-    return 0
-
-def _lower(kind, want):
-    soft, hard = resource.getrlimit(kind)
-    if hard != resource.RLIM_INFINITY:
-        want = min(want, hard)
-    resource.setrlimit(kind, (want, want if hard == resource.RLIM_INFINITY else hard))
-
+{limits}
 _lower(resource.RLIMIT_AS, _vm() + memory)
 out = {"attribute": None, "datasets": {}, "error": None}
 try:
@@ -125,7 +114,7 @@ try:
 except BaseException as error:
     out["error"] = f"{type(error).__name__}: {error}"
 sys.stdout.write(json.dumps(out))
-"""
+""".replace("{limits}", CHILD_LIMITS)
 
 
 def probe_hdf5(path: str | os.PathLike[str], where: str) -> Probe:
