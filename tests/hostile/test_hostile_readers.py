@@ -432,3 +432,11 @@ def test_an_openfoam_polygon_case_naming_a_missing_point_is_located(tmp_path):
     at = text.rindex("6(")  # a hexagon (a split cell's centre): a face of the empty patch
     faces.write_text(text[:at] + "6(999999 " + text[at + 2 :].split(" ", 1)[1])
     _check_refused(tmp_path, "check", "case", names=("faces", "999999"))
+
+
+def test_a_polygon_mat_element_holding_text_is_located(tmp_path):
+    blockmesh.write(_polygons(), tmp_path / "p.mat")
+    data = scipy.io.loadmat(tmp_path / "p.mat")
+    data["Element"][0, 0] = np.array(["abc"])  # main's polygon path: a ValueError, exit 3
+    scipy.io.savemat(tmp_path / "p.mat", {k: v for k, v in data.items() if k[:2] != "__"})
+    _check_refused(tmp_path, "check", "p.mat", names=("p.mat", "Element"))
