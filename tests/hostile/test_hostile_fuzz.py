@@ -1,9 +1,9 @@
 """A bounded fuzz of every reader (slow): damaged valid files, only the library's errors escape.
 
 Each target runs in its own process (``fuzz_readers.py``) for a few seconds, with its address
-space limited (a case needing 2 GB fails with MemoryError) and each case limited to 10 s
-(SIGALRM). Long runs of ten minutes a reader are made by hand; their counts are in
-``docs/reliability.md``.
+space limited (a case needing 2 GB fails with MemoryError) and each case limited to 10 s of
+CPU time (30 s of real time). Long runs of ten minutes a reader are made by hand; their counts
+are in ``docs/reliability.md``.
 """
 
 from __future__ import annotations
