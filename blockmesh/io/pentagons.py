@@ -34,6 +34,7 @@ import numpy as np
 
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import edge_keys
+from blockmesh.io.common import check_points
 
 __all__ = ["Merged", "join_lines", "merge_elements", "merge_polygons"]
 
@@ -256,6 +257,7 @@ def merge_elements(
     ExportError
         When some pentagon's elements do not merge into one pentagon.
     """
+    check_points(points, where)  # before any arithmetic on them (the corners' turns)
     n = points.shape[0]
     quick = _from_split(conn, pentagon, split) if split else None
     if quick is not None:

@@ -12,6 +12,7 @@ import base64
 import os
 import re
 import struct
+import warnings
 import zlib
 from pathlib import Path
 
@@ -440,3 +441,29 @@ def test_a_polygon_mat_element_holding_text_is_located(tmp_path):
     data["Element"][0, 0] = np.array(["abc"])  # main's polygon path: a ValueError, exit 3
     scipy.io.savemat(tmp_path / "p.mat", {k: v for k, v in data.items() if k[:2] != "__"})
     _check_refused(tmp_path, "check", "p.mat", names=("p.mat", "Element"))
+
+
+def test_a_msh_entity_tag_beyond_int64_is_located(tmp_path):
+    # Found by the ten-minute fuzz: the tag reached numpy as a Python int (OverflowError, exit 3).
+    path = blockmesh.write(_mesh(), tmp_path / "m.msh")
+    lines = path.read_bytes().split(b"\n")
+    header = lines.index(b"$Elements") + 2  # after the section's counts: the first block's header
+    dim, _tag, kind, count = lines[header].split()
+    lines[header] = b" ".join([dim, b"9223372036854775808", kind, count])
+    path.write_bytes(b"\n".join(lines))
+    _check_refused(tmp_path, "check", "m.msh", names=("m.msh", "9223372036854775808"))
+
+
+def test_non_finite_nodes_are_located_before_the_elements_are_merged():
+    # Found by the ten-minute fuzz of .msh: an infinite node reached the corner test of elements
+    # merged by their outlines (a RuntimeWarning, then a message about the wrong thing).
+    from blockmesh.io.pentagons import merge_elements
+    from blockmesh.io.split import split_cells
+
+    split = split_cells(_mesh(0), "quad5")
+    points = split.points.copy()
+    points[7] = [np.inf, 0.0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(blockmesh.ExportError, match="m.msh: point 7 .* not finite"):
+            merge_elements(split.cells, split.parent, points, where="m.msh")

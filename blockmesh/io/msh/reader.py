@@ -103,6 +103,11 @@ def _ints(text: bytes, r: TextReader, what: str, count: int = 1) -> list[int]:
         values = []
     if len(values) < count:
         raise ExportError(f"{r.where}, line {r.line_number}: malformed {what} {text[:80]!r}")
+    if any(abs(v) >= 2**62 for v in values):  # no tag or count is that large; int64 holds it
+        raise ExportError(
+            f"{r.where}, line {r.line_number}: {what} {text[:80]!r} holds a number beyond any "
+            "tag or count"
+        )
     return values
 
 
