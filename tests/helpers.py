@@ -13,8 +13,12 @@ from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 #: The catalogue domains with curved edges (their refined cells approach the curves, so the
 #: straight-edged invariants, area preserved and nodes on the block edges, do not apply to them).
 CURVED_CATALOGUE = [n for n in catalogue_names() if "[[edges]]" in catalogue_path(n).read_text()]
-#: Every straight-edged catalogue domain name.
-CATALOGUE = [n for n in catalogue_names() if n not in CURVED_CATALOGUE]
+#: Every composite catalogue domain name (several parts, some with circles; tested on their own).
+COMPOSITE_CATALOGUE = [n for n in catalogue_names() if "[[parts]]" in catalogue_path(n).read_text()]
+#: Every straight-edged catalogue domain name of one material.
+CATALOGUE = [
+    n for n in catalogue_names() if n not in CURVED_CATALOGUE and n not in COMPOSITE_CATALOGUE
+]
 #: The straight-edged catalogue domains of about a hundred blocks or more (decomposed polygons):
 #: a sweep over the catalogue whose work grows with the blocks takes them in the slow set only
 #: (:func:`sweep`). ``test_large_catalogue_is_the_domains_of_90_blocks_or_more`` keeps the list.

@@ -77,6 +77,7 @@ SLOW = {
     "'mydomains/*.toml' sp ring --level 5": "three meshes at level 5, written as VTU",
     "square-cut l-shape ring --level 4 --plot": "three meshes drawn on two cores",
     "--adapt --max-unknowns 20000": "twelve adaptive solves, up to 13,000 unknowns",
+    "--diffusion fibre=20": "meshes the fibre cell and solves on 91,368 cells",
 }
 
 #: Inline code that starts with ``blockmesh`` but names an option, not a command to run.

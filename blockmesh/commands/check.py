@@ -20,7 +20,7 @@ from blockmesh.domain.blockgraph import certificate
 from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError
-from blockmesh.geometry.topology import graph_components
+from blockmesh.geometry.topology import cell_neighbours, connected_pieces, graph_components
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
@@ -31,8 +31,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "check",
         help="validate a domain and print its conformity certificate",
         description="Validate a domain (catalogue name, .toml file or --polygon). Prints the "
-        "certificate (blocks, shared edges, boundary edges per patch, Euler characteristic, "
-        "orientation, strict convexity and angles of every block) and exits 0 when valid; "
+        "certificate (blocks, shared edges, boundary edges per patch, regions and the "
+        "interfaces between them, Euler characteristic and connected pieces, orientation, "
+        "strict convexity and angles of every block) and exits 0 when valid; "
         "prints the located errors and exits 1 otherwise.",
     )
     add_domain_arguments(parser)
@@ -148,7 +149,7 @@ def _report_polygons(mesh: PolygonMesh, args: argparse.Namespace, caught: list[s
         f"ratio {r['max_aspect_ratio']:.3g}"
     )
     for message in caught:
-        print(f"  warning: {message}")
+        print(f"  warning: {printable(str(message))}")
     return 0
 
 
@@ -180,6 +181,8 @@ def domain_of_mesh(mesh: Mesh) -> Domain:
         for k, name in enumerate(mesh.region_names)
         if np.any(mesh.region == k)
     }
+    interfaces = {name: edges.tolist() for name, edges in mesh.interfaces.items() if len(edges)}
+    pieces, _ = connected_pieces(cell_neighbours(mesh.cells, mesh.n_points))
     return Domain.from_blocks(
         mesh.points,
         mesh.cells,
@@ -188,6 +191,8 @@ def domain_of_mesh(mesh: Mesh) -> Domain:
         name=mesh.name or "mesh",
         description=f"a level-{mesh.level} mesh read from a file",
         layout=f"mesh, level {mesh.level}",
+        interfaces=interfaces,
+        components=pieces,
     )
 
 
@@ -200,10 +205,21 @@ def _print_certificate(c: dict) -> None:
     for region, blocks in c["regions"].items():
         listed = ", ".join(map(str, blocks[:_LISTED]))
         more = f" ... ({len(blocks):,} in all)" if len(blocks) > _LISTED else ""
-        print(f"    region {printable(region)}: blocks {listed}{more}")
+        area = c["region_areas"][region]
+        print(f"    region {printable(region)} (area {area:.12g}): blocks {listed}{more}")
+    for interface, info in c["interfaces"].items():
+        count = info["edges"]
+        first, second = info["between"]
+        print(
+            f"    interface {printable(interface)}: {count} edge{'s' if count != 1 else ''} "
+            f"between {printable(first)} and {printable(second)} (internal)"
+        )
+    pieces = c["connected_components"]
+    separate = " (separate parts: the mesh is not connected)" if pieces > 1 else ""
     print(
         f"  Euler characteristic {c['euler_characteristic']} "
-        f"({c['connected_components']} piece, {c['holes']} hole{'s' if c['holes'] != 1 else ''})"
+        f"({pieces} piece{'s' if pieces != 1 else ''}, {c['holes']} "
+        f"hole{'s' if c['holes'] != 1 else ''}){separate}"
     )
     ccw = sum(b["counter_clockwise"] for b in c["block_details"])
     convex = sum(b["strictly_convex"] for b in c["block_details"])

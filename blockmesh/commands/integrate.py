@@ -14,6 +14,7 @@ from blockmesh.commands.common import (
     add_domain_arguments,
     check_level_options,
     check_range,
+    levels_to_add,
     print_json,
     printable,
     resolve_target,
@@ -60,8 +61,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_level_option(
         parser,
-        f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}, or a mesh file's "
-        "own level; with --tol: the starting level, default 0)",
+        f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}; a mesh file keeps "
+        "its own level, and L more levels refine it further; with --tol: the starting level, "
+        "default 0)",
     )
     parser.add_argument(
         "--order",
@@ -138,7 +140,7 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
                 args.function,
                 args.tol,
                 rule=args.rule or "jacobi",
-                level=args.level,
+                level=None if args.level is None else _level(args, target),
                 start_order=args.order or 2,
                 max_level=args.max_level,
                 exact_geometry=args.exact_geometry,
@@ -173,11 +175,18 @@ def _has_curves(target: Any) -> bool:
     return curves is not None and len(curves) > 0
 
 
-def _level(args: argparse.Namespace, target: Any) -> int | None:
-    """The level asked for; by default 2 for a domain, and a mesh file's own level."""
-    if args.level is not None:
-        return int(args.level)
-    return None if isinstance(target, Mesh | PolygonMesh) else _DEFAULT_LEVEL
+def _level(args: argparse.Namespace, target: Any) -> int:
+    """The level to integrate at: ``--level`` (default 2), or a mesh file's own plus ``--level``.
+
+    A mesh file's levels are counted as ``blockmesh mesh`` and ``solve`` count them.
+    """
+    steps = levels_to_add(args.level, target, _DEFAULT_LEVEL)
+    if isinstance(target, PolygonMesh) and steps:
+        raise BlockMeshError(
+            f"--level {steps}: a locally refined mesh (polygon cells) is integrated on its own "
+            "cells; leave --level out, or refine it further with blockmesh mesh FILE --refine-..."
+        )
+    return target.level + steps if isinstance(target, Mesh | PolygonMesh) else steps
 
 
 def run(args: argparse.Namespace) -> int:

@@ -290,7 +290,8 @@ def _mesh_one(
         "bandwidth": bandwidth,
         "numbering": options["numbering"],
         "smooth": options["smooth"],
-        "quality_rule": options["quality_rule"],
+        "placement": options["quality_rule"],
+        "quality_rule": options["quality_rule"],  # the earlier key, kept
         "seconds": seconds,
         "predicted_peak_bytes": prediction.peak_bytes,
         "plot": None,

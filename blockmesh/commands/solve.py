@@ -7,6 +7,11 @@ prescribes the solution (the displacement) on a patch, ``--neumann PATCH=EXPR`` 
 (the traction); other patches are natural (zero flux, traction-free). PATCH may be a comma list
 of patches, or ``*``: every patch the other options do not name.
 
+On a composite domain the coefficients and the source may differ by region: ``--diffusion
+fibre=10 --diffusion matrix=1`` (likewise ``--reaction``, ``--young``, ``--poisson-ratio``,
+``--source``); a bare value means every region not named. Across an interface u and the flux are
+continuous (the natural conditions); a condition on an interface is refused.
+
 ``--adapt`` solves adaptively instead (:mod:`blockmesh.commands.solve_adaptive`): estimate,
 mark, refine the marked cells locally, repeat until ``--tol`` or ``--max-unknowns``.
 """
@@ -80,8 +85,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
     parser.add_argument(
         "--source",
-        metavar="EXPR",
-        help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0)",
+        action="append",
+        default=[],
+        metavar="[REGION=]EXPR",
+        help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0); "
+        "REGION=... for one region (repeatable)",
     )
     parser.add_argument(
         "--dirichlet",
@@ -89,8 +97,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default=[],
         metavar="PATCH=EXPR",
         help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be "
-        "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every patch no "
-        "other --dirichlet or --neumann names)",
+        "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every boundary "
+        "patch no other --dirichlet or --neumann names)",
     )
     parser.add_argument(
         "--neumann",
@@ -109,12 +117,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="the exact solution ('UX, UY' for elasticity): report the errors against it "
         "(--exact is the earlier spelling)",
     )
-    parser.add_argument("--diffusion", default="1", metavar="EXPR", help="kappa(x, y) (1)")
-    parser.add_argument("--reaction", default="0", metavar="EXPR", help="c(x, y) (0)")
-    parser.add_argument("--young", type=float, default=1.0, metavar="E", help="elasticity: E (1)")
-    parser.add_argument(
-        "--poisson-ratio", type=float, default=0.3, metavar="NU", help="elasticity: nu (0.3)"
-    )
+    for flag, metavar, text in (
+        ("--diffusion", "[REGION=]EXPR", "kappa(x, y) (1)"),
+        ("--reaction", "[REGION=]EXPR", "c(x, y) (0)"),
+        ("--young", "[REGION=]E", "elasticity: E (1)"),
+        ("--poisson-ratio", "[REGION=]NU", "elasticity: nu (0.3)"),
+    ):
+        parser.add_argument(
+            flag,
+            action="append",
+            default=[],
+            metavar=metavar,
+            help=f"{text}; REGION=... for one region of a composite domain (repeatable)",
+        )
     parser.add_argument(
         "--plane", choices=("stress", "strain"), default="stress", help="elasticity: the model"
     )
@@ -174,11 +189,14 @@ def _conditions(args: argparse.Namespace) -> list[Condition]:
 
 
 def _patch_values(
-    conditions: list[Condition], patch_names: tuple[str, ...]
+    conditions: list[Condition],
+    patch_names: tuple[str, ...],
+    interface_names: tuple[str, ...] = (),
 ) -> tuple[dict[str, str], dict[str, str]]:
     """The Dirichlet and Neumann values by patch: lists split, ``*`` given the patches left.
 
     A name that is a patch of the mesh is taken whole (commas and all); otherwise a comma list.
+    ``*`` stands for boundary patches only; an interface named is refused (SolverError).
     """
     values: dict[str, dict[str, str]] = {"--dirichlet": {}, "--neumann": {}}
     seen: dict[str, str] = {}
@@ -192,10 +210,18 @@ def _patch_values(
                 )
             star = (flag, item, patch, expression)
             continue
-        names = [patch] if patch in patch_names else [n.strip() for n in str(patch).split(",")]
+        whole = patch in patch_names or patch in interface_names
+        names = [patch] if whole else [n.strip() for n in str(patch).split(",")]
         for name in names:
             if not name:
                 raise BlockMeshError(f"{flag} {item!r}: an empty patch name in the list")
+            if name in interface_names and name not in patch_names:
+                raise SolverError(
+                    f"{flag} {item!r}: {name!r} is an interface (an internal patch between two "
+                    "regions), not a boundary patch; across an interface u and the flux are "
+                    "continuous by themselves. Give conditions on the boundary patches: "
+                    f"{', '.join(patch_names)}"
+                )
             if name not in patch_names:
                 raise BlockMeshError(
                     f"{flag} {item!r}: no patch {name!r}; the patches are {', '.join(patch_names)}"
@@ -212,6 +238,62 @@ def _patch_values(
             if name not in seen:
                 values[star[0]][name] = star[3]
     return values["--dirichlet"], values["--neumann"]
+
+
+#: The value of a per-region option given for no region (and never given).
+_DEFAULTS = {"--diffusion": "1", "--reaction": "0", "--young": "1", "--poisson-ratio": "0.3"}
+_REGION_ITEM = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.\-]*)\s*=(.*)$")
+
+
+def region_option(items: list[str], flag: str, default: str | None) -> Any:
+    """A per-region option's value: one text, or a mapping region -> text (``"*"``: the rest).
+
+    ``NAME=VALUE`` gives one region's value, a bare ``VALUE`` every region not named.
+
+    Examples
+    --------
+    >>> region_option(["fibre=10", "1"], "--diffusion", "1")
+    {'fibre': '10', '*': '1'}
+    >>> region_option([], "--diffusion", "1")
+    '1'
+    """
+    bare: str | None = None
+    named: dict[str, str] = {}
+    for item in items:
+        match = _REGION_ITEM.match(item)
+        if match is None:
+            if bare is not None:
+                raise BlockMeshError(
+                    f"{flag} is given twice for every region ({bare!r} and {item!r}); give one "
+                    f"value, and REGION=VALUE for the regions that differ"
+                )
+            bare = item.strip()
+            continue
+        region, value = match.group(1), match.group(2).strip()
+        if not value:
+            raise BlockMeshError(f"{flag} {item!r}: write REGION=VALUE, e.g. {flag} fibre=10")
+        if region in named:
+            raise BlockMeshError(f"{flag} gives the region {region!r} twice; give it once")
+        named[region] = value
+    if not named:
+        return bare if bare is not None else default
+    if bare is not None or default is not None:
+        named["*"] = bare if bare is not None else default  # type: ignore[assignment]
+    return named
+
+
+def _numbers(value: Any, flag: str) -> Any:
+    """A per-region option's texts as numbers (``--young``, ``--poisson-ratio``)."""
+
+    def number(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            raise BlockMeshError(f"{flag} takes numbers, got {text!r}") from None
+
+    if isinstance(value, dict):
+        return {region: number(text) for region, text in value.items()}
+    return number(value)
 
 
 def _check(args: argparse.Namespace) -> None:
@@ -235,6 +317,7 @@ def _check(args: argparse.Namespace) -> None:
 
 
 def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
+    source = region_option(args.source, "--source", None)
     common: dict[str, Any] = {
         "order": args.order,
         "stabilization_scale": args.stabilization_scale,
@@ -246,19 +329,21 @@ def _solve(args: argparse.Namespace, mesh, dirichlet: dict, neumann: dict):
     if args.equation == "poisson":
         return solve_poisson(
             mesh,
-            args.source or "0",
-            diffusion=args.diffusion,
-            reaction=args.reaction,
+            source if source is not None else "0",
+            diffusion=region_option(args.diffusion, "--diffusion", _DEFAULTS["--diffusion"]),
+            reaction=region_option(args.reaction, "--reaction", _DEFAULTS["--reaction"]),
             dirichlet=dirichlet,
             neumann=neumann,
             **common,
         )
+    young = region_option(args.young, "--young", _DEFAULTS["--young"])
+    ratio = region_option(args.poisson_ratio, "--poisson-ratio", _DEFAULTS["--poisson-ratio"])
     return solve_elasticity(
         mesh,
-        young=args.young,
-        poisson=args.poisson_ratio,
+        young=_numbers(young, "--young"),
+        poisson=_numbers(ratio, "--poisson-ratio"),
         plane=args.plane,
-        source=args.source or "0, 0",
+        source=source if source is not None else "0, 0",
         dirichlet=dirichlet,
         neumann=neumann,
         **common,
@@ -299,7 +384,7 @@ def run(args: argparse.Namespace) -> int:
     _check(args)
     conditions = _conditions(args)
     domain = resolve_target(args)
-    dirichlet, neumann = _patch_values(conditions, domain.patch_names)
+    dirichlet, neumann = _patch_values(conditions, domain.patch_names, domain.interface_names)
     if args.adapt:
         start = levels_to_add(args.level, domain, 0)
         mesh = refine_with_rule(
@@ -322,7 +407,8 @@ def run(args: argparse.Namespace) -> int:
         "domain": domain.name,
         "equation": args.equation,
         "level": mesh.level,
-        "quality_rule": args.quality_rule,
+        "placement": args.quality_rule,
+        "quality_rule": args.quality_rule,  # the earlier key, kept
         "cells": mesh.n_cells,
         "nodes": mesh.n_points,
         "dof": info.dof,

@@ -101,14 +101,16 @@ def _to_global(d: Decomposition, rings: list[np.ndarray], frame: LocalFrame) -> 
     )
 
 
-def _check_representable(vertices: np.ndarray, blocks: np.ndarray, frame: LocalFrame) -> None:
+def _check_representable(
+    vertices: np.ndarray, blocks: np.ndarray, frame: LocalFrame, what: str = "the polygon"
+) -> None:
     """Blocks that rounding to the global coordinates made non-convex: too small for doubles."""
     sines = corner_sines(vertices[blocks])
     bad = np.flatnonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1))
     if bad.size:
         size = float(np.ptp(vertices[blocks[bad[0]]], axis=0).max())
         raise DomainError(
-            f"the polygon is too small for where it sits to be decomposed in double precision: "
+            f"{what} is too small for where it sits to be decomposed in double precision: "
             f"its blocks are about {size:.3g} across "
             f"at coordinates near {float(np.max(np.abs(frame.origin))):.3g}, where doubles are "
             f"only {frame.ulp():.3g} apart, and rounding folds {bad.size} of them; move the "

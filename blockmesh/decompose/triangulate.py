@@ -182,7 +182,12 @@ class _Refiner:
     """
 
     def __init__(
-        self, points: np.ndarray, triangles: np.ndarray, edge_a: np.ndarray, edge_b: np.ndarray
+        self,
+        points: np.ndarray,
+        triangles: np.ndarray,
+        edge_a: np.ndarray,
+        edge_b: np.ndarray,
+        sharp: list[bool] | None = None,
     ) -> None:
         self.x = points[:, 0].tolist()
         self.y = points[:, 1].tolist()
@@ -192,19 +197,22 @@ class _Refiner:
         self.free: list[int] = []
         self.nbr = [[-1, -1, -1] for _ in self.tri]
         self.tri_of: list[int] = [0] * len(self.x)  # some triangle at each vertex
+        ring_edge = {
+            (int(a), int(b)): k for k, (a, b) in enumerate(zip(edge_a, edge_b, strict=True))
+        }
         owner: dict[tuple[int, int], tuple[int, int]] = {}
         for t, (a, b, c) in enumerate(self.tri):
             for i, (p, q) in enumerate(((a, b), (b, c), (c, a))):
                 self.tri_of[p] = t
+                if (p, q) in ring_edge:  # a segment (an internal one too) is never crossed
+                    owner[(p, q)] = (t, i)
+                    continue
                 other = owner.pop((q, p), None)
                 if other is None:
                     owner[(p, q)] = (t, i)
                 else:
                     self.nbr[t][i] = other[0]
                     self.nbr[other[0]][other[1]] = t
-        ring_edge = {
-            (int(a), int(b)): k for k, (a, b) in enumerate(zip(edge_a, edge_b, strict=True))
-        }
         self.seg: dict[tuple[int, int], int] = {}
         for (p, q), _ in owner.items():
             if (p, q) not in ring_edge:
@@ -213,6 +221,9 @@ class _Refiner:
                     "unmatched); check the rings for nearly touching edges"
                 )
             self.seg[(p, q)] = ring_edge[(p, q)]
+        if sharp is not None:
+            self.sharp = list(sharp)
+            return
         # Input corners sharper than 60 degrees: triangles in them cannot be repaired.
         self.sharp = [False] * len(self.x)
         previous = np.empty(len(self.x), dtype=np.int64)
@@ -416,11 +427,26 @@ class _Refiner:
         # The segment is no cavity edge: the fan's end triangles get the halves (p, m), (m, q).
         if not self._star_shaped(edges, mx, my):
             return None
+        # An internal segment (two faces meet along it) is listed both ways: both sides are split
+        # at the same new point, or neither is.
+        twin = self.seg.get((q, p))
+        if twin is not None:
+            s = self._segment_triangle(q, p)
+            if s < 0:
+                return None
+            twin_cavity, twin_edges = self._cavity(s, mx, my, on_edge=(q, p))
+            if not self._star_shaped(twin_edges, mx, my):
+                return None
         m = self._add_point(mx, my)
         new = self._fill(cavity, edges, m)
         del self.seg[(p, q)]
         self.seg[(p, m)] = ring_edge
         self.seg[(m, q)] = ring_edge
+        if twin is not None:
+            new += self._fill(twin_cavity, twin_edges, m)
+            del self.seg[(q, p)]
+            self.seg[(q, m)] = twin
+            self.seg[(m, p)] = twin
         return new
 
     def _segment_triangle(self, p: int, q: int) -> int:

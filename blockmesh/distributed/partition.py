@@ -27,13 +27,14 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from blockmesh.checks import whole_number
-from blockmesh.errors import ArgumentError, ArgumentTypeError
+from blockmesh.errors import ArgumentError, ArgumentTypeError, BlockMeshWarning
 from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -161,6 +162,14 @@ def partition(target: Domain | Mesh | PolygonMesh, level: int, partitions: int) 
     level = whole_number(level, "level")
     partitions = whole_number(partitions, "partitions", minimum=1, maximum=MAX_PARTITIONS)
     coarse = target if isinstance(target, Mesh) else target.block_mesh()
+    if coarse.interface_names:
+        warnings.warn(
+            f"the partitioned pieces carry the regions ({', '.join(coarse.region_names)}) but "
+            f"not the interfaces ({', '.join(coarse.interface_names)}): refine without "
+            "partitions to have them in the file",
+            BlockMeshWarning,
+            stacklevel=2,
+        )
     if level < 1:
         raise ArgumentError("a partitioned refinement needs level >= 1 (level 0 is the blocks)")
     most = coarse.n_cells * 6 ** (level - 1)

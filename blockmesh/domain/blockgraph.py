@@ -31,8 +31,8 @@ def block_graph(domain) -> nx.Graph:
 
     Nodes are block ids with attributes ``vertices`` (the 5 vertex ids), ``area`` and ``region``;
     an edge joins two blocks sharing a block edge and carries ``vertices`` (the two vertex ids, as
-    the lower-numbered block runs along it). ``graph["boundary"]`` lists the boundary edges as
-    ``(block, (a, b), patch)``. O(B).
+    the lower-numbered block runs along it) and ``interface`` (the interface's name, or None).
+    ``graph["boundary"]`` lists the boundary edges as ``(block, (a, b), patch)``. O(B).
     """
     graph = nx.Graph(name=domain.name)
     areas = domain.block_areas()
@@ -45,11 +45,16 @@ def block_graph(domain) -> nx.Graph:
         )
     neighbour = domain._neighbour
     boundary_owner = {}
+    interface_of = {
+        (min(int(a), int(c)), max(int(a), int(c))): domain.interface_names[int(k)]
+        for (a, c), k in zip(domain.interface_edges, domain.interface_patch, strict=True)
+    }
     for b, e in zip(*np.nonzero(neighbour >= 0), strict=True):
         other = int(neighbour[b, e]) // 5
         if b < other:
             a, c = int(domain.blocks[b, e]), int(domain.blocks[b, (e + 1) % 5])
-            graph.add_edge(int(b), other, vertices=(a, c))
+            name = interface_of.get((min(a, c), max(a, c)))
+            graph.add_edge(int(b), other, vertices=(a, c), interface=name)
     for b, e in zip(*np.nonzero(neighbour < 0), strict=True):
         a, c = int(domain.blocks[b, e]), int(domain.blocks[b, (e + 1) % 5])
         boundary_owner[(a, c)] = int(b)
@@ -63,9 +68,11 @@ def block_graph(domain) -> nx.Graph:
 def certificate(domain) -> dict[str, Any]:
     """The conformity certificate of a domain, as a JSON-ready dictionary.
 
-    Counts (blocks, vertices, shared and boundary edges per patch), the Euler characteristic
-    V - E + F (1 for a domain without holes; 1 - h with h holes), connected components, and per
-    block its orientation, strict convexity and angles.
+    Counts (blocks, vertices, shared and boundary edges per patch), the regions (their blocks
+    and areas) and interfaces (their edges and the two regions each lies between), the Euler
+    characteristic V - E + F (c - h for c connected components and h holes; a composite domain
+    of disjoint parts has several components), and per block its orientation, strict convexity
+    and angles.
 
     Examples
     --------
@@ -106,6 +113,11 @@ def certificate(domain) -> dict[str, Any]:
             for k, name in enumerate(domain.patch_names)
         },
         "regions": {name: [int(b) for b in ids] for name, ids in domain.regions.items()},
+        "region_areas": {
+            name: float(np.sum(areas[domain.region == k]))
+            for k, name in enumerate(domain.region_names)
+        },
+        "interfaces": _interfaces(domain),
         "area": domain.area,
         "euler_characteristic": int(euler),
         "connected_components": int(components),
@@ -115,3 +127,19 @@ def certificate(domain) -> dict[str, Any]:
         "max_angle": float(angles.max()),
         "block_details": blocks,
     }
+
+
+def _interfaces(domain) -> dict[str, dict[str, Any]]:
+    """Each interface's edge count and the regions on its two sides (first side first)."""
+    out: dict[str, dict[str, Any]] = {}
+    if not domain.interface_names:
+        return out
+    cells = domain.block_mesh().interface_cells()
+    for k, name in enumerate(domain.interface_names):
+        mine = cells[domain.interface_patch == k]
+        sides = [
+            sorted({domain.region_names[r] for r in domain.region[mine[:, j]].tolist()})
+            for j in (0, 1)
+        ]
+        out[name] = {"edges": int(mine.shape[0]), "between": [", ".join(s) for s in sides]}
+    return out

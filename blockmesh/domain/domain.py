@@ -19,7 +19,6 @@ Examples
 from __future__ import annotations
 
 import numbers
-import re
 import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
@@ -36,8 +35,12 @@ from blockmesh.curves.types import Curve
 from blockmesh.decompose import decompose_polygon
 from blockmesh.decompose.conversion import convert_elements, read_element_mesh
 from blockmesh.decompose.polygon import check_corner_count
+from blockmesh.domain.compose import compose_parts
 from blockmesh.domain.curve_checks import check_curved_blocks, curved_edges, resolve_curves
 from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
+from blockmesh.domain.interfaces import resolve_interfaces
+from blockmesh.domain.parts import part_from_shapely, part_from_table, part_from_value
+from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
 from blockmesh.domain.validate import (
     Ring,
@@ -56,7 +59,7 @@ from blockmesh.errors import (
     DomainFormatError,
     TopologyError,
 )
-from blockmesh.geometry.polygons import DIRECTIONS, edges_facing, interior_angles, signed_area
+from blockmesh.geometry.polygons import interior_angles, signed_area
 from blockmesh.geometry.topology import boundary_loops, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.pipeline import refine
@@ -107,6 +110,17 @@ class Domain:
     curves : mapping of (a, b) to Curve
         The curved block edges (read-only view): each curve runs from vertex ``a`` to vertex
         ``b`` (:mod:`blockmesh.curves`); empty when every edge is straight.
+    interface_edges : ndarray (Ei, 2) int64
+        Block edges between two blocks that are named as internal patches (where two regions
+        meet, :mod:`blockmesh.domain.interfaces`), each with its first side's block on its left.
+    interface_patch : ndarray (Ei,) int64
+        Index into ``interface_names`` of each interface edge.
+    interface_names : tuple of str
+        Different from every patch name; a composite domain names the edges between regions
+        ``A`` and ``B`` ``"A|B"`` by default.
+    components : int
+        How many separate pieces the blocks form (1 unless a composite domain's parts lie
+        apart); pieces do not touch, not even at a corner.
     """
 
     name: str
@@ -122,6 +136,10 @@ class Domain:
     boundary_source: np.ndarray = field(default_factory=_no_source, repr=False)
     block_source: np.ndarray = field(default_factory=_no_source, repr=False)
     curves: Mapping[tuple[int, int], Curve] = field(default_factory=dict)
+    interface_edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    interface_patch: np.ndarray = field(default_factory=_no_source)
+    interface_names: tuple[str, ...] = ()
+    components: int = 1
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
@@ -129,7 +147,7 @@ class Domain:
         blocks = parse_blocks(self.blocks, vertices.shape[0])
         check_block_shapes(vertices, blocks, repair=False)
         neighbour = _neighbours(blocks, vertices.shape[0])
-        check_topology(vertices, blocks, neighbour)
+        check_topology(vertices, blocks, neighbour, _components(self.components))
         boundary = boundary_loops(blocks, neighbour)
         given = np.asarray(self.boundary_edges, dtype=np.int64).reshape(-1, 2)
         if not np.array_equal(given, boundary):
@@ -149,6 +167,19 @@ class Domain:
             raise DomainError("every block needs one region (an index into region_names)")
         object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
         self._store(vertices, blocks, boundary, patch, region, neighbour)
+        self._check_interfaces()
+
+    def _check_interfaces(self) -> None:
+        """Every interface edge an edge of two blocks, indices in range, names of their own."""
+        edges, patch = self.interface_edges, self.interface_patch
+        if patch.shape != (edges.shape[0],) or not np.all(
+            (patch >= 0) & (patch < len(self.interface_names))
+        ):
+            raise DomainError(
+                "every interface edge needs one interface (an index into interface_names)"
+            )
+        names = {name: edges[patch == k].tolist() for k, name in enumerate(self.interface_names)}
+        resolve_interfaces(self.blocks, self.region, names, self.patch_names)
 
     def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
         set_ = object.__setattr__
@@ -163,6 +194,12 @@ class Domain:
         set_(self, "boundary_source", _boundary_source(self.boundary_source, boundary.shape[0]))
         set_(self, "block_source", _block_source(self.block_source, blocks.shape[0]))
         set_(self, "curves", MappingProxyType(dict(self.curves)))
+        edges, patch, names = self.interface_edges, self.interface_patch, self.interface_names
+        if edges is MISSING or edges is None:
+            edges, patch, names = np.zeros((0, 2)), np.zeros(0), ()
+        set_(self, "interface_edges", readonly(np.asarray(edges).reshape(-1, 2), np.int64))
+        set_(self, "interface_patch", readonly(np.asarray(patch).reshape(-1), np.int64))
+        set_(self, "interface_names", tuple(names))
 
     @classmethod
     def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
@@ -197,6 +234,8 @@ class Domain:
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
+        interfaces: Mapping[str, Iterable] | None = None,
+        components: int = 1,
     ) -> Domain:
         """A domain from explicit blocks, like OpenFOAM's blockMeshDict.
 
@@ -213,8 +252,8 @@ class Domain:
             Merge vertices closer than this distance (in the coordinates' units) into one, the
             lowest-numbered, before anything is checked: pieces made separately are glued along
             their common edges. The vertices are then renumbered in order, leaving out the
-            merged ones, and ``blocks`` and ``patches`` refer to the new numbers' old ids as given
-            (the merge maps them).
+            merged ones, and ``blocks``, ``patches`` and ``interfaces`` refer to the new numbers'
+            old ids as given (the merge maps them).
         boundary_source : mapping of (a, b) to (ring, edge), optional
             The polygon edge each boundary edge lies on (see :attr:`boundary_source`); used by
             the polygon constructors.
@@ -227,6 +266,12 @@ class Domain:
             the straight edge from vertex ``a`` to vertex ``b`` (ids as given, before any
             merge). The blocks must stay strictly convex with their curves when refined
             (:mod:`blockmesh.domain.curve_checks`).
+        interfaces : mapping of name to a list of (a, b) edges, optional
+            Internal patches: edges each shared by two blocks (either way round), named as
+            interfaces (:mod:`blockmesh.domain.interfaces`); none by default.
+        components : int
+            How many separate pieces the blocks form (default 1: every block is joined to the
+            others through whole edges). Pieces must not touch, not even at a corner.
 
         Examples
         --------
@@ -262,7 +307,9 @@ class Domain:
         block_ids = parse_blocks(blocks, points.shape[0])
         if merge_tol is not None:
             given = points
-            points, block_ids, patches = _merged(points, block_ids, patches, merge_tol)
+            points, block_ids, (patches, interfaces) = _merged(
+                points, block_ids, (patches, interfaces), merge_tol
+            )
             edges = _merged_edges(edges, given, points)
         return cls._from_parsed(
             points,
@@ -275,6 +322,8 @@ class Domain:
             boundary_source=boundary_source,
             block_source=block_source,
             edges=edges,
+            interfaces=interfaces,
+            components=components,
         )
 
     @classmethod
@@ -289,6 +338,8 @@ class Domain:
         boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
         block_source: Any = None,
         edges: Mapping[tuple[int, int], Curve] | None = None,
+        interfaces: Mapping[str, Iterable] | None = None,
+        components: int = 1,
         **text: str,
     ) -> Domain:
         """Check parsed blocks and build the Domain.
@@ -299,7 +350,7 @@ class Domain:
         try:
             block_ids = check_block_shapes(points, block_ids, repair=made_for is None)
             neighbour = _neighbours(block_ids, points.shape[0])
-            check_topology(points, block_ids, neighbour)
+            check_topology(points, block_ids, neighbour, _components(components))
         except (DomainError, TopologyError) as error:
             if made_for is None:
                 raise
@@ -313,6 +364,9 @@ class Domain:
         boundary = boundary_loops(block_ids, neighbour)
         patch_names, patch = resolve_patches(boundary, patches, block_ids)
         region_names, region = resolve_regions(block_ids.shape[0], regions)
+        interface_names, interface_edges, interface_patch = resolve_interfaces(
+            block_ids, region, interfaces, patch_names
+        )
         curves = _checked_curves(points, block_ids, edges)
         source = None
         if boundary_source is not None:
@@ -335,6 +389,10 @@ class Domain:
             boundary_source=source,
             block_source=block_source,
             curves=curves,
+            interface_edges=interface_edges,
+            interface_patch=interface_patch,
+            interface_names=interface_names,
+            components=components,
         )
 
     @classmethod
@@ -394,9 +452,9 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
-        holes = _hole_list(holes) if holes is not None else []
+        holes = hole_list(holes) if holes is not None else []
         check_corner_count(sum(len(r) if hasattr(r, "__len__") else 0 for r in (coords, *holes)))
-        patches = _facing_resolved(patches, coords)
+        patches = facing_resolved(patches, coords)
         if arcs or circles:  # decomposed through the chords, then curved: domain.curved_polygons
             return curved_polygon(
                 cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
@@ -404,9 +462,9 @@ class Domain:
             )  # fmt: skip
 
         given = [parse_points(coords, "polygon vertex")]
-        for k, hole in enumerate(_hole_list(holes)):
+        for k, hole in enumerate(hole_list(holes)):
             given.append(parse_points(hole, f"hole {k} vertex"))
-        edge_patch = _ring_edge_patches(patches, [len(g) for g in given])
+        edge_patch = ring_edge_patches(patches, [len(g) for g in given])
         rings = check_rings(given, edge_patch)
         decomposition = decompose_polygon([r.points for r in rings])
         chains = [decomposition.edge_chains, *decomposition.hole_chains]
@@ -462,13 +520,18 @@ class Domain:
         name: str = "polygon",
         patches: Mapping[str, Iterable[int | str]] | None = None,
         description: str = "",
+        region: str | Iterable[str] | None = None,
     ) -> Domain:
         """A domain from a shapely Polygon (its exterior and its interiors as holes).
 
         Edge numbers for ``patches`` are as in :meth:`from_polygon`, counted along the rings as
-        shapely stores them (the closing point is not a corner). A MultiPolygon is an error: a
-        domain is one connected piece, so mesh each part as its own domain
-        (``[Domain.from_shapely(p) for p in multi.geoms]``).
+        shapely stores them (the closing point is not a corner).
+
+        A MultiPolygon (or a GeometryCollection of polygons) is a composite domain
+        (:meth:`compose`): each of its polygons is a part, of the region ``partK`` (K its
+        place), or of the regions named by ``region`` (one name per polygon), or all of one
+        region when ``region`` is one name. Disjoint pieces are allowed: the mesh then has
+        several connected components (``blockmesh check`` says how many).
 
         Examples
         --------
@@ -477,18 +540,22 @@ class Domain:
         >>> d = Domain.from_shapely(ring, patches={"inner": ["hole 0"]})
         >>> d.patch_names, round(d.area / ring.area, 12)
         (('inner', 'boundary'), 1.0)
+        >>> two = shapely.MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 1)])
+        >>> Domain.from_shapely(two).region_names, Domain.from_shapely(two, region="land").area
+        (('part0', 'part1'), 2.0)
         """
         import shapely
 
-        if isinstance(polygon, shapely.MultiPolygon):
-            raise DomainError(
-                f"a MultiPolygon of {len(polygon.geoms)} parts is not one domain: mesh each part "
-                "as its own domain (for part in multipolygon.geoms: Domain.from_shapely(part)), "
-                "or join them first (shapely.union_all)"
-            )
+        if isinstance(polygon, shapely.MultiPolygon | shapely.GeometryCollection):
+            return _from_pieces(cls, polygon, region, name, patches, description)
         if not isinstance(polygon, shapely.Polygon):
             raise ArgumentTypeError(
-                f"from_shapely takes a shapely Polygon, got {type(polygon).__name__}"
+                f"from_shapely takes a shapely Polygon or MultiPolygon, got "
+                f"{type(polygon).__name__}"
+            )
+        if region is not None:
+            raise DomainError(
+                "region names the regions of a MultiPolygon's pieces; a Polygon is one region"
             )
         if polygon.is_empty:
             raise DomainError("the shapely polygon is empty")
@@ -506,6 +573,71 @@ class Domain:
                     warning.message, warning.category, warning.filename, warning.lineno
                 )
         return domain
+
+    @classmethod
+    def compose(
+        cls,
+        parts: Mapping[str, Any],
+        *,
+        name: str = "composite",
+        description: str = "",
+        patches: Mapping[str, Mapping[str, Iterable[int | str]]] | None = None,
+        interfaces: Mapping[str, str] | None = None,
+    ) -> Domain:
+        """A composite domain: several regions meshed together, conforming across interfaces.
+
+        **A later part is cut out of the earlier ones** (gmsh's boolean fragment): a fibre listed
+        after the matrix it lies in makes the matrix a part with a hole and the fibre its own
+        region; parts may touch along edges or overlap, and where they overlap the later one
+        wins (:mod:`blockmesh.domain.compose`).
+
+        Parameters
+        ----------
+        parts : mapping of region name to a part, in order
+            Each part a shapely Polygon or MultiPolygon, a Domain (curved ones included: its
+            arcs stay arcs; its regions are not kept), or a mapping of the polygon form's keys
+            (``polygon``, ``holes``, ``arcs``, ``circles``, ``patches``; without ``polygon``,
+            ``circles`` are the part's discs).
+        patches : mapping of region to a polygon patch mapping, optional
+            Patches of a shapely part's edges, as in :meth:`from_polygon`
+            (``{"matrix": {"left": [3]}}``). Edges of a part that end up inside the domain are
+            interfaces, whatever their patch; boundary edges no part names go to
+            ``"boundary"``.
+        interfaces : mapping of "A|B" to a name, optional
+            Names of interfaces; by default the edges between regions ``A`` and ``B`` (``A``
+            first in ``parts``) form the interface ``"A|B"``.
+
+        Examples
+        --------
+        >>> import shapely
+        >>> plate = shapely.box(0, 0, 3, 1)
+        >>> d = Domain.compose(
+        ...     {"steel": plate, "rubber": shapely.box(1, 0, 2, 1)},
+        ...     patches={"steel": {"left": [3]}},
+        ...     interfaces={"steel|rubber": "glued"},
+        ... )
+        >>> d.region_names, d.interface_names, d.patch_names
+        (('steel', 'rubber'), ('glued',), ('left', 'boundary'))
+        >>> steel = d.block_areas()[d.region == 0].sum()  # the rubber cut out of the steel
+        >>> round(float(steel), 12), d.components
+        (2.0, 1)
+        """
+        if not isinstance(parts, Mapping):
+            raise ArgumentTypeError(
+                f"compose takes a mapping of region name to part, got {type(parts).__name__}"
+            )
+        patches = patches or {}
+        unknown = sorted(set(patches) - set(parts))
+        if unknown:
+            raise DomainError(
+                f"patches name the region {unknown[0]!r}, but the parts are "
+                f"{', '.join(map(str, parts))}"
+            )
+        listed = [
+            part_from_value(cls, region, value, k, patches.get(region))
+            for k, (region, value) in enumerate(parts.items())
+        ]
+        return compose_parts(cls, listed, name=name, description=description, interfaces=interfaces)
 
     @classmethod
     def from_mesh(
@@ -629,6 +761,28 @@ class Domain:
         )
 
     @property
+    def interfaces(self) -> Mapping[str, np.ndarray]:
+        """Interface edges (E, 2) of each interface, by name (read-only view; empty if none).
+
+        Examples
+        --------
+        >>> d = Domain.from_blocks(
+        ...     [(0, 0), (2, 0), (2.5, 1), (2, 2), (0, 2), (4, 0), (4.5, 1), (4, 2)],
+        ...     [(0, 1, 2, 3, 4), (1, 5, 6, 7, 2)],
+        ...     regions={"left": [0], "right": [1]},
+        ...     interfaces={"left|right": [(1, 2)]},
+        ... )
+        >>> d.interfaces["left|right"].tolist()  # the left block on its left
+        [[1, 2]]
+        """
+        return MappingProxyType(
+            {
+                name: self.interface_edges[self.interface_patch == k]
+                for k, name in enumerate(self.interface_names)
+            }
+        )
+
+    @property
     def polygon_edges(self) -> Mapping[tuple[int, int], np.ndarray]:
         """The block vertices along each polygon edge, by ``(ring, edge)`` (read-only view).
 
@@ -687,6 +841,9 @@ class Domain:
             level=0,
             name=self.name,
             curves=curved_edges(self.curves),
+            interface_edges=self.interface_edges,
+            interface_patch=self.interface_patch,
+            interface_names=self.interface_names,
         )
 
     def mesh(self, level: int, **options: Any) -> Mesh:
@@ -743,122 +900,6 @@ def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
         raise TopologyError(f"{error}: the blocks overlap there") from None
 
 
-def _hole_list(holes: Any) -> list[Any]:
-    if holes is None:
-        return []
-    if isinstance(holes, str | bytes) or not isinstance(holes, Iterable):
-        raise DomainFormatError(
-            f"holes must be a list of rings (each a list of [x, y] corners), got "
-            f"{type(holes).__name__}"
-        )
-    return list(holes)
-
-
-_HOLE_EDGE = re.compile(r"^hole (\d+)(?::(\d+))?$")
-
-
-def _facing_resolved(patches: Any, coords: Any) -> Any:
-    """``patches`` with the direction words (``"left"`` ...) replaced by outer edge indices.
-
-    An edge a patch lists by number (or by another word) stays there: a word takes the edges
-    facing its way that nothing else claims.
-    """
-    if not isinstance(patches, Mapping):
-        return patches
-    words = {
-        name: [e for e in edges if isinstance(e, str) and e.strip().lower() in DIRECTIONS]
-        for name, edges in patches.items()
-        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
-    }
-    if not any(words.values()):
-        return patches
-    facing = edges_facing(parse_points(coords, "polygon vertex"))
-    claimed: set[int] = {
-        int(e)
-        for edges in patches.values()
-        if not isinstance(edges, str | bytes) and isinstance(edges, Iterable)
-        for e in edges
-        if isinstance(e, numbers.Integral)
-    }
-    resolved: dict[str, Any] = {}
-    for name, edges in patches.items():
-        if not words.get(name):
-            resolved[name] = edges
-            continue
-        listed = [e for e in edges if e not in words[name]]
-        for word in words[name]:
-            taken = [i for i in facing[word.strip().lower()] if i not in claimed]
-            listed += taken
-            claimed.update(taken)
-        resolved[name] = listed
-    return resolved
-
-
-def _ring_edge_patches(
-    patches: Mapping[str, Iterable[int | str]] | None, sizes: list[int]
-) -> list[list[str | None]] | None:
-    """Each ring's edges' patch names from the polygon form of ``patches``; None if none given."""
-    if not patches:
-        return None
-    if not isinstance(patches, Mapping):
-        raise DomainFormatError(
-            f"patches must map patch names to polygon edges, got {type(patches).__name__}"
-        )
-    edge_patch: list[list[str | None]] = [[None] * n for n in sizes]
-    for patch_name, edges in patches.items():
-        if isinstance(edges, str | bytes) or not isinstance(edges, Iterable):
-            raise DomainFormatError(
-                f"patch {patch_name!r} must be a list of polygon edges, got {edges!r}"
-            )
-        for edge in edges:
-            for ring, index in _ring_edges(patch_name, edge, sizes):
-                owner = edge_patch[ring][index]
-                where = f"edge {index}" if ring == 0 else f"hole {ring - 1} edge {index}"
-                if owner is not None and owner != patch_name:
-                    raise DomainError(
-                        f"polygon {where} is in patches {owner!r} and {patch_name!r}; an edge "
-                        "belongs to one patch"
-                    )
-                edge_patch[ring][index] = str(patch_name)
-    return edge_patch
-
-
-def _ring_edges(patch_name: str, edge: object, sizes: list[int]) -> list[tuple[int, int]]:
-    """The (ring, edge) pairs one item of a polygon patch list names."""
-    forms = (
-        f'an outer edge index 0..{sizes[0] - 1}, "hole K" (every edge of hole K), '
-        '"hole K:E" (edge E of hole K) or left, right, top, bottom (the outer edges facing '
-        "that way)"
-    )
-    if isinstance(edge, numbers.Integral) and not isinstance(edge, bool):
-        if not 0 <= int(edge) < sizes[0]:
-            raise DomainError(
-                f"patch {patch_name!r} names edge {edge}, but the polygon's edges are numbered "
-                f"0..{sizes[0] - 1}"
-            )
-        return [(0, int(edge))]
-    match = _HOLE_EDGE.match(edge.strip()) if isinstance(edge, str) else None
-    if match is None:
-        raise DomainFormatError(
-            f"patch {patch_name!r} has {edge!r}; for a polygon, a patch lists {forms} (edge i runs "
-            "from corner i to corner i+1)"
-        )
-    hole = int(match.group(1))
-    if hole >= len(sizes) - 1:
-        have = f"holes 0..{len(sizes) - 2}" if len(sizes) > 1 else "no holes"
-        raise DomainError(f"patch {patch_name!r} names hole {hole}, but the polygon has {have}")
-    n = sizes[hole + 1]
-    if match.group(2) is None:
-        return [(hole + 1, i) for i in range(n)]
-    index = int(match.group(2))
-    if index >= n:
-        raise DomainError(
-            f"patch {patch_name!r} names edge {index} of hole {hole}, whose edges are numbered "
-            f"0..{n - 1}"
-        )
-    return [(hole + 1, index)]
-
-
 def _steps_on_input_edges(
     ring: Ring, i: int, chain: np.ndarray, vertices: np.ndarray
 ) -> list[tuple[int, int, int]]:
@@ -892,6 +933,13 @@ def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
             f"({n_boundary}, 2), got {array.shape}"
         )
     return readonly(array, np.int64)
+
+
+def _components(value: object) -> int:
+    """``value`` as a number of pieces (a whole number >= 1), or DomainFormatError."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool) or int(value) < 1:
+        raise DomainFormatError(f"components must be a whole number >= 1, got {value!r}")
+    return int(value)
 
 
 def _whole(value: object) -> bool:
@@ -941,9 +989,12 @@ def _block_source(source: Any, n_blocks: int) -> np.ndarray:
 
 
 def _merged(
-    points: np.ndarray, blocks: np.ndarray, patches: Any, tol: float
-) -> tuple[np.ndarray, np.ndarray, Any]:
-    """Merge vertices closer than ``tol``; renumber; map blocks and patch vertex pairs."""
+    points: np.ndarray, blocks: np.ndarray, named: tuple[Any, ...], tol: float
+) -> tuple[np.ndarray, np.ndarray, tuple[Any, ...]]:
+    """Merge vertices closer than ``tol``; renumber; map blocks and ``named``'s vertex pairs.
+
+    ``named`` holds mappings of name to vertex pairs (the patches, the interfaces).
+    """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
@@ -961,6 +1012,11 @@ def _merged(
     new_id = np.full(n, -1, dtype=np.int64)
     new_id[kept] = np.arange(kept.size)
     mapping = new_id[target]
+    return points[kept], mapping[blocks], tuple(_mapped_pairs(p, mapping, n) for p in named)
+
+
+def _mapped_pairs(patches: Any, mapping: np.ndarray, n: int) -> Any:
+    """A mapping of name to vertex pairs with every pair's ids mapped (others left as given)."""
     mapped_patches = patches
     if patches:
         mapped_patches = {}
@@ -973,19 +1029,59 @@ def _merged(
                 if (
                     pair is not None
                     and len(pair) == 2
-                    and all(isinstance(v, numbers.Integral) and 0 <= v < n for v in pair)
+                    and all(isinstance(v, numbers.Integral) and 0 <= int(v) < n for v in pair)
                 ):
                     mapped.append((int(mapping[pair[0]]), int(mapping[pair[1]])))
                 else:
                     mapped.append(edge)
             mapped_patches[patch_name] = mapped
-    return points[kept], mapping[blocks], mapped_patches
+    return mapped_patches
+
+
+def _from_pieces(
+    cls: type[Domain],
+    multi: Any,
+    region: str | Iterable[str] | None,
+    name: str,
+    patches: Mapping[str, Iterable[int | str]] | None,
+    description: str,
+) -> Domain:
+    """The composite domain of a MultiPolygon's pieces (see :meth:`Domain.from_shapely`)."""
+    pieces = list(multi.geoms)
+    if patches:
+        raise DomainError(
+            "patches of a MultiPolygon's pieces: use Domain.compose with one part per piece "
+            "(patches={region: {patch: [edges]}})"
+        )
+    if isinstance(region, str):
+        parts = [part_from_shapely(region, multi, f"part 0 ({region!r})")]
+    else:
+        names = [f"part{k}" for k in range(len(pieces))] if region is None else list(region)
+        if len(names) != len(pieces):
+            raise DomainError(
+                f"region gives {len(names)} names for the {len(pieces)} pieces of the "
+                "MultiPolygon; give one name per piece (or one name for all)"
+            )
+        parts = [
+            part_from_value(cls, label, piece, k)
+            for k, (label, piece) in enumerate(zip(names, pieces, strict=True))
+        ]
+    return compose_parts(cls, parts, name=name, description=description)
 
 
 def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
     name = raw.get("name", "domain")
     description = raw.get("description", "")
     try:
+        if "parts" in raw:
+            parts = [part_from_table(table, k) for k, table in enumerate(raw["parts"])]
+            return compose_parts(
+                Domain,
+                parts,
+                name=name,
+                description=description,
+                interfaces=raw.get("interfaces"),
+            )
         if "circle" in raw:
             circle = raw["circle"]
             return Domain.from_circle(
@@ -1015,6 +1111,8 @@ def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
             boundary_source=_source_table(raw.get("boundary_source")),
             block_source=_source_list(raw.get("block_source")),
             edges=raw.get("edges"),
+            interfaces=raw.get("interfaces"),
+            components=raw.get("components", 1),
         )
     except DomainError as error:
         raise type(error)(f"{source}: {error}") from None

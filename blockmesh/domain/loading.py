@@ -6,10 +6,16 @@
 =================================== ===========================================================
 ``NAME``                            a catalogue domain (``blockmesh catalogue`` lists them)
 ``FILE.toml``                       a domain file (polygon with holes, or explicit blocks)
-``FILE.wkt``                        one Polygon in Well-Known Text (holes as its interior rings)
+``FILE.wkt``                        one Polygon in Well-Known Text (holes as its interior rings);
+                                    a MULTIPOLYGON or GEOMETRYCOLLECTION is a composite domain
+                                    (regions ``part0``, ``part1``, ...), as are lines
+                                    ``NAME = GEOMETRY`` (one part each, named)
 ``FILE.geojson`` / ``FILE.json``    one Polygon (a geometry, a Feature or a collection of one);
                                     the feature's ``properties`` may hold ``name``,
-                                    ``description`` and ``patches`` (as in a domain file)
+                                    ``description`` and ``patches`` (as in a domain file); a
+                                    FeatureCollection of several features (or of features
+                                    with ``properties.region``) is a composite domain, one part
+                                    per feature, named by ``region`` (else ``name``)
 ``FILE.msh`` ``.vtu`` ``.vtk`` ...  an existing triangle/quadrilateral mesh, converted
                                     (:meth:`Domain.from_mesh`)
 =================================== ===========================================================
@@ -32,15 +38,18 @@ from __future__ import annotations
 
 import difflib
 import json
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from blockmesh.decompose.polygon import MAX_CORNERS, check_corner_count
+from blockmesh.decompose.polygon import check_corner_count, check_file_corners
 from blockmesh.domain.catalogue import catalogue_names, catalogue_path
+from blockmesh.domain.compose import compose_parts
 from blockmesh.domain.domain import Domain
+from blockmesh.domain.parts import part_from_shapely
 from blockmesh.domain.tomlio import read_text_bounded
 from blockmesh.errors import DomainError, DomainFormatError
 
@@ -149,6 +158,11 @@ _NOT_AN_OUTLINE = (
     "{name} names its own patches (a domain file in its [patches] table, a mesh file on its "
     "boundary)"
 )
+_NOT_ONE_OUTLINE = (
+    "{path}: patches name edges of one polygon outline, and this file is a composite domain of "
+    "{count} parts; name the patches of each part in the file (a GeoJSON feature's "
+    "properties.patches, or a domain file's [[parts]] with their own patches)"
+)
 
 
 def _unknown_kind(path: Path, suffix: str) -> str:
@@ -162,42 +176,82 @@ def _unknown_kind(path: Path, suffix: str) -> str:
     )
 
 
+#: A line ``NAME = GEOMETRY`` (or ``NAME: GEOMETRY``) of a WKT file of named parts.
+_NAMED_WKT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.\-]*)\s*[:=]\s*(\S.*)$")
+
+
 def _from_wkt(path: Path, patches: Mapping[str, Iterable[int | str]] | None = None) -> Domain:
     import shapely
 
     text = read_text_bounded(path, what="WKT file")
-    if text.count(",") > MAX_CORNERS + 64:  # a comma between corners: counted before parsing
-        raise DomainFormatError(
-            f"{path}: the outline has about {text.count(',') + 1:,} corners; at most "
-            f"{MAX_CORNERS:,} are decomposed, which takes seconds (simplify the outline, or split "
-            "the domain into parts)"
-        )
-    try:
-        geometry = shapely.from_wkt(text.strip())
-    except (shapely.errors.ShapelyError, ValueError) as error:
-        raise DomainFormatError(f"{path}: not Well-Known Text ({error})") from None
+    check_file_corners(text.count(",") + 1, path, "comma")  # counted before parsing
+    lines = [
+        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+    ]
+    named = [_NAMED_WKT.match(line) for line in lines]
+    if lines and all(named):
+        if patches:
+            raise DomainFormatError(_NOT_ONE_OUTLINE.format(path=path, count=len(lines)))
+        geometries = {}
+        for number, match in enumerate(named, start=1):
+            region, wkt = match.group(1), match.group(2)  # type: ignore[union-attr]
+            if region in geometries:
+                raise DomainError(
+                    f"{path}: line {number} names the region {region!r} again; a region is one "
+                    "part (put its pieces in one MULTIPOLYGON)"
+                )
+            geometries[region] = _parse_wkt(wkt, path, f"line {number}")
+        return _with_source(path, lambda: _composite(geometries, path.stem))
+    geometry = _parse_wkt(text, path, "")
+    if isinstance(geometry, shapely.GeometryCollection | shapely.MultiPolygon) and (
+        len(geometry.geoms) > 1
+    ):
+        if patches:
+            raise DomainFormatError(_NOT_ONE_OUTLINE.format(path=path, count=len(geometry.geoms)))
+        parts = {f"part{k}": g for k, g in enumerate(geometry.geoms)}
+        return _with_source(path, lambda: _composite(parts, path.stem))
     return _with_source(
         path,
         lambda: Domain.from_shapely(_one_polygon(geometry, path), name=path.stem, patches=patches),
     )
 
 
+def _parse_wkt(text: str, path: Path, where: str) -> Any:
+    import shapely
+
+    try:
+        return shapely.from_wkt(text.strip())
+    except (shapely.errors.ShapelyError, ValueError) as error:
+        at = f" ({where})" if where else ""
+        raise DomainFormatError(f"{path}{at}: not Well-Known Text ({error})") from None
+
+
+def _composite(geometries: dict[str, Any], name: str, **options: Any) -> Domain:
+    """The composite Domain of named shapely geometries, in order (a part per geometry)."""
+    patches = options.pop("patches", {})
+    parts = [
+        part_from_shapely(region, geometry, f"part {k} ({region!r})", patches.get(region))
+        for k, (region, geometry) in enumerate(geometries.items())
+    ]
+    return compose_parts(Domain, parts, name=name, **options)
+
+
 def _from_geojson(path: Path, extra: Mapping[str, Iterable[int | str]] | None = None) -> Domain:
     import shapely.geometry
 
     text = read_text_bounded(path, what="GeoJSON file")
-    if text.count("[") > MAX_CORNERS + 64:  # a bracket per position: counted before parsing
-        raise DomainFormatError(
-            f"{path}: the outline has about {text.count('['):,} corners; at most "
-            f"{MAX_CORNERS:,} are decomposed, which takes seconds (simplify the outline, or split "
-            "the domain into parts)"
-        )
+    check_file_corners(text.count("["), path, "bracket")  # counted before parsing
     try:
         document = json.loads(text, parse_int=_json_int, parse_constant=_json_constant)
     except (json.JSONDecodeError, RecursionError) as error:
         raise DomainFormatError(f"{path}: not JSON ({error})") from None
     except ValueError as error:  # a number the hooks refused
         raise DomainFormatError(f"{path}: {error}") from None
+    if _is_composite(document):
+        if extra:
+            count = len(document["features"])
+            raise DomainFormatError(_NOT_ONE_OUTLINE.format(path=path, count=count))
+        return _composite_geojson(document, path)
     feature = _one_feature(document, path)
     properties = feature.get("properties") or {}
     if not isinstance(properties, dict):
@@ -257,6 +311,73 @@ def _positions(coordinates: Any) -> int:
             else:
                 stack.extend(value)
     return count
+
+
+def _is_composite(document: Any) -> bool:
+    """A FeatureCollection of several features, or of features that name their region."""
+    if not isinstance(document, dict) or document.get("type") != "FeatureCollection":
+        return False
+    features = document.get("features")
+    if not isinstance(features, list) or not features:
+        return False
+    regions = [
+        isinstance(f, dict)
+        and isinstance(f.get("properties"), dict)
+        and "region" in f["properties"]
+        for f in features
+    ]
+    return len(features) > 1 or any(regions)
+
+
+def _composite_geojson(document: dict[str, Any], path: Path) -> Domain:
+    """One part per feature: its region ``properties.region`` (else ``name``, else ``partK``)."""
+    import shapely.geometry
+
+    geometries: dict[str, Any] = {}
+    patches: dict[str, Any] = {}
+    for k, feature in enumerate(document["features"]):
+        where = f"{path}: feature {k}"
+        if not isinstance(feature, dict) or feature.get("type") != "Feature":
+            raise DomainFormatError(f"{where} must be a Feature object")
+        properties = feature.get("properties") or {}
+        if not isinstance(properties, dict):
+            raise DomainFormatError(f"{where}: its properties must be an object")
+        region = properties.get("region", properties.get("name", f"part{k}"))
+        if not isinstance(region, str):
+            raise DomainFormatError(f"{where}: properties.region must be a string, got {region!r}")
+        if region in geometries:
+            raise DomainError(
+                f"{where} names the region {region!r} again; a region is one part (put its "
+                "pieces in one MultiPolygon feature)"
+            )
+        geometry = feature.get("geometry")
+        if not isinstance(geometry, dict) or "type" not in geometry:
+            raise DomainFormatError(f"{where} has no geometry object")
+        try:
+            geometries[region] = shapely.geometry.shape(_flat(geometry))
+        except (shapely.errors.ShapelyError, ValueError, TypeError, KeyError, IndexError) as error:
+            raise DomainFormatError(f"{where}: the geometry cannot be read ({error})") from None
+        if properties.get("patches") is not None:
+            if not isinstance(properties["patches"], dict):
+                raise DomainFormatError(
+                    f"{where}: properties.patches must be an object of patch name: [edges]"
+                )
+            patches[region] = properties["patches"]
+    name = document.get("name", path.stem)
+    description = document.get("description", "")
+    interfaces = document.get("interfaces")
+    if not isinstance(name, str) or not isinstance(description, str):
+        raise DomainFormatError(f"{path}: the collection's name and description must be strings")
+    return _with_source(
+        path,
+        lambda: _composite(
+            geometries,
+            name,
+            description=description,
+            interfaces=interfaces,
+            patches=patches,
+        ),
+    )
 
 
 def _one_feature(document: Any, path: Path) -> dict[str, Any]:

@@ -33,6 +33,17 @@ blocks, like OpenFOAM's blockMeshDict::
     circles = [{center = [1, 1], radius = 0.3, patch = "cylinder"}]
     circle = {center = [0, 0], radius = 1, patch = "rim"}   # alone: a disc
 
+    # or several parts (materials), a later part cut out of the earlier ones
+    [[parts]]
+    region = "matrix"
+    polygon = [[0, 0], [2, 0], [2, 2], [0, 2]]
+    patches = {left = [3], right = [1]}
+    [[parts]]
+    region = "fibre"
+    circles = [{center = [1, 1], radius = 0.4}]   # without a polygon: the part's discs
+    [interfaces]
+    "matrix|fibre" = "bond"   # optional: the interface's name (default "matrix|fibre")
+
 Only this module knows the file layout; :mod:`blockmesh.domain` validates the values. Reading is
 bounded: the file must be a regular file (not a FIFO or a device) of at most
 :data:`MAX_FILE_BYTES`, arrays and tables nest at most :data:`MAX_NESTING` deep, and integers
@@ -59,7 +70,7 @@ from typing import Any
 import numpy as np
 
 from blockmesh.curves.types import CURVE_KINDS, curve_from_fields
-from blockmesh.decompose.polygon import MAX_CORNERS
+from blockmesh.decompose.polygon import MAX_CORNERS, MAX_FILE_CORNERS
 from blockmesh.errors import DomainFormatError
 
 __all__ = [
@@ -98,6 +109,11 @@ ALLOWED_KEYS = {
     "through|center",
     "circles": 'circular holes of a polygon: [{center = [x, y], radius = r, patch = "name"}]',
     "circle": 'a whole disc instead of a polygon: {center = [x, y], radius = r, patch = "name"}',
+    "components": "with blocks: how many separate pieces they form (default 1)",
+    "parts": "a composite domain: [[parts]] tables, each region = name with polygon, holes, "
+    "arcs, circles and patches; a later part is cut out of the earlier ones",
+    "interfaces": 'with parts, a table "A|B" = name (renames the interface between regions A '
+    "and B); with blocks, a table name = list of edges [a, b] between two blocks",
 }
 
 
@@ -181,16 +197,18 @@ def _check_limits(text: str, source: str) -> None:
 
     A small scanner that skips strings and comments: ``[`` and ``{`` in values open a level (a
     ``[table]`` header at the start of a line is not a value); digits runs outside strings are
-    numbers. The numbers of ``polygon`` and ``holes`` are counted as they are met: more than
-    twice :data:`~blockmesh.decompose.polygon.MAX_CORNERS` is refused at once, before the
-    parser or the geometry sees them.
+    numbers. The numbers of ``polygon`` and ``holes`` are counted as they are met, per table (a
+    composite domain's ``[[parts]]`` each have their own polygon): more than twice
+    :data:`~blockmesh.decompose.polygon.MAX_CORNERS` in one table, or twice
+    :data:`~blockmesh.decompose.polygon.MAX_FILE_CORNERS` in the file, is refused at once,
+    before the parser or the geometry sees them.
     """
     depth = 0
     line, column = 1, 0
     i, n = 0, len(text)
     at_line_start = True
     key = ""
-    corner_numbers = 0
+    corner_numbers = file_numbers = 0  # of the polygon being read, of the whole file
     while i < n:
         c = text[i]
         if c == "\n":
@@ -244,18 +262,25 @@ def _check_limits(text: str, source: str) -> None:
                 )
             if key in _CORNER_KEYS and depth:
                 corner_numbers += 1
-                if corner_numbers > 2 * MAX_CORNERS:
+                file_numbers += 1
+                if corner_numbers > 2 * MAX_CORNERS or file_numbers > 2 * MAX_FILE_CORNERS:
+                    most, what = (
+                        (MAX_CORNERS, "the polygon and its holes")
+                        if corner_numbers > 2 * MAX_CORNERS
+                        else (MAX_FILE_CORNERS, "the polygons of the file")
+                    )
                     raise DomainFormatError(
-                        f"{source}: the polygon and its holes have more than {MAX_CORNERS:,} "
-                        f"corners (counted up to line {line}); at most {MAX_CORNERS:,} are "
-                        "decomposed, which takes seconds (simplify the outline, or split the "
-                        "domain into parts)"
+                        f"{source}: {what} have more than {most:,} corners (counted up to line "
+                        f"{line}); a polygon of at most {MAX_CORNERS:,} is decomposed in seconds, "
+                        f"a file holds at most {MAX_FILE_CORNERS:,} (simplify the outline, or "
+                        "split the domain into parts)"
                     )
             i += len(token)
             column += len(token) - 1
             at_line_start = False
             continue
-        if c == "[" and at_line_start and depth == 0:
+        if c == "[" and at_line_start and depth == 0:  # a table header: a part of its own
+            corner_numbers, key = 0, ""
             stop = text.find("\n", i)
             i = n if stop < 0 else stop
             continue
@@ -307,6 +332,8 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
                 )
     if "circle" in raw:
         return _disc(raw, source)
+    if "parts" in raw:
+        return _parts(raw, source)
     has_polygon = "polygon" in raw
     has_blocks = "vertices" in raw or "blocks" in raw
     for key in ("arcs", "circles"):
@@ -332,7 +359,7 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
             f"{source}: 'holes' belong to a 'polygon'; with explicit blocks, leave the holes' "
             "area without blocks"
         )
-    for key in ("boundary_source", "block_source"):
+    for key in ("boundary_source", "block_source", "components"):
         if key in raw and not has_blocks:
             raise DomainFormatError(
                 f"{source}: {key!r} belongs to explicit blocks (blockmesh writes it with them)"
@@ -341,6 +368,13 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
         raise DomainFormatError(
             f"{source}: 'regions' needs explicit blocks; a polygon is decomposed automatically"
         )
+    if "interfaces" in raw and not has_blocks:
+        raise DomainFormatError(
+            f"{source}: 'interfaces' belong to [[parts]] (renaming the interfaces between "
+            "regions) or to explicit blocks (listing their edges), not to one polygon"
+        )
+    if "interfaces" in raw:
+        _check_table(raw["interfaces"], "interfaces", source, list, "a list of edges [a, b]")
     if has_polygon and "edges" in raw:
         raise DomainFormatError(
             f"{source}: 'edges' needs explicit blocks (vertices and blocks), not a polygon"
@@ -354,6 +388,40 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
             f"{source}: 'circles' must be a list of tables, got {_toml_type(raw['circles'])}"
         )
     return raw
+
+
+def _parts(raw: dict[str, Any], source: str) -> dict[str, Any]:
+    """A ``[[parts]]`` domain: a list of tables, and optionally ``[interfaces]`` renames."""
+    others = sorted(set(raw) - {"name", "description", "parts", "interfaces"})
+    if others:
+        raise DomainFormatError(
+            f"{source}: with [[parts]], the geometry is in the parts; leave out "
+            f"{', '.join(map(repr, others))} (each part takes region, polygon, holes, arcs, "
+            "circles and patches)"
+        )
+    parts = raw["parts"]
+    if not isinstance(parts, list) or not parts or not all(isinstance(t, dict) for t in parts):
+        raise DomainFormatError(
+            f"{source}: 'parts' must be [[parts]] tables, one per part (region = ..., polygon = "
+            f"... or circles = ...), got {_toml_type(parts)}"
+        )
+    if "interfaces" in raw:
+        _check_table(raw["interfaces"], "interfaces", source, str, 'a name, "A|B" = "name"')
+    return raw
+
+
+def _check_table(table: object, key: str, source: str, kind: type, what: str) -> None:
+    """``table`` a TOML table whose every value is a ``kind``; a located error otherwise."""
+    if not isinstance(table, dict):
+        raise DomainFormatError(
+            f"{source}: {key!r} must be a table ([{key}] with one line each), got "
+            f"{_toml_type(table)}"
+        )
+    for name, value in table.items():
+        if not isinstance(value, kind):
+            raise DomainFormatError(
+                f"{source}: {key} {name!r} must be {what}, got {_toml_type(value)}"
+            )
 
 
 def _disc(raw: dict[str, Any], source: str) -> dict[str, Any]:
@@ -476,6 +544,8 @@ def dumps_domain(domain) -> str:
         lines.append("]")
     if np.any(domain.block_source >= 0):
         lines.append(f"block_source = [{', '.join(str(int(k)) for k in domain.block_source)}]")
+    if domain.components > 1:
+        lines.append(f"components = {int(domain.components)}")
     lines.append("")
     lines.append("[patches]")
     for name, edges in domain.patches.items():
@@ -485,6 +555,12 @@ def dumps_domain(domain) -> str:
     lines.append("[regions]")
     for name, ids in domain.regions.items():
         lines.append(f"{_key(name)} = [{', '.join(str(int(b)) for b in ids)}]")
+    if domain.interface_names:
+        lines.append("")
+        lines.append("[interfaces]")
+        for name, edges in domain.interfaces.items():
+            pairs = ", ".join(f"[{int(a)}, {int(b)}]" for a, b in edges)
+            lines.append(f"{_key(name)} = [{pairs}]")
     for (a, b), curve in domain.curves.items():
         lines += ["", "[[edges]]", f"{curve.kind} = [{int(a)}, {int(b)}]"]
         for name, value in curve.to_fields().items():

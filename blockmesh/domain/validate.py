@@ -57,6 +57,7 @@ __all__ = [
     "check_block_shapes",
     "check_rings",
     "check_topology",
+    "edge_pair",
     "fmt_point",
     "parse_blocks",
     "parse_points",
@@ -195,8 +196,11 @@ def _short(item: object) -> str:
 
 #: Up to this many points, close pairs are found by comparing all pairs (chunked numpy), so that
 #: loading a catalogue domain does not import ``scipy.spatial`` (0.3-0.5 s in a fresh process);
-#: above it, with a k-d tree.
+#: above it, by a sweep along x (the composite catalogue domains have a few thousand vertices),
+#: or with a k-d tree when the sweep would compare more than :data:`_SWEEP_PAIRS` pairs per point
+#: (many points within ``r`` of one another in x).
 _BRUTE_FORCE_POINTS = 2048
+_SWEEP_PAIRS = 32
 
 
 def close_pairs(points: np.ndarray, r: float) -> np.ndarray:
@@ -212,6 +216,9 @@ def close_pairs(points: np.ndarray, r: float) -> np.ndarray:
     points = np.asarray(points, dtype=np.float64)
     n = points.shape[0]
     if n > _BRUTE_FORCE_POINTS:
+        swept = _swept_pairs(points, r)
+        if swept is not None:
+            return swept
         from scipy.spatial import cKDTree
 
         return cKDTree(points).query_pairs(r=r, output_type="ndarray")
@@ -224,6 +231,28 @@ def close_pairs(points: np.ndarray, r: float) -> np.ndarray:
         keep = i < j
         found.append(np.stack([i[keep], j[keep]], axis=1))
     return np.concatenate(found)
+
+
+def _swept_pairs(points: np.ndarray, r: float) -> np.ndarray | None:
+    """The pairs of :func:`close_pairs` by a sweep along x; None when it would compare too many.
+
+    Every point is compared with the points after it in x order that are at most ``r`` further
+    in x: O(n log n) plus the pairs compared.
+    """
+    n = points.shape[0]
+    order = np.argsort(points[:, 0], kind="stable")
+    xs = points[order, 0]
+    counts = np.searchsorted(xs, xs + r, side="right") - np.arange(n) - 1
+    total = int(counts.sum())
+    if total > _SWEEP_PAIRS * n:
+        return None
+    first = np.repeat(np.arange(n), counts)
+    step = np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
+    i, j = order[first], order[first + 1 + step]
+    gap = points[i] - points[j]
+    keep = np.hypot(gap[:, 0], gap[:, 1]) <= r
+    pairs = np.stack([i[keep], j[keep]], axis=1).astype(np.intp)
+    return np.sort(pairs, axis=1)
 
 
 def _coincident_pairs(points: np.ndarray) -> list[tuple[int, int]]:
@@ -693,7 +722,9 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
 
 
 # --------------------------------------------------------------------------- topology
-def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarray) -> None:
+def check_topology(
+    vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarray, components: int = 1
+) -> None:
     """Check that blocks meet edge to edge: no overlaps, gaps, hanging nodes, loose blocks.
 
     ``neighbour`` is :func:`blockmesh.geometry.topology.cell_neighbours` of the blocks (computed by
@@ -705,6 +736,9 @@ def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarr
     shared corners (else a hanging node or an overlap) and the corners around every inner vertex
     add up to one full turn. Separate boundary loops closer than :data:`NEAR_TOL` times the
     domain's size are reported as a gap. O(B log B), in the domain's local frame.
+
+    ``components`` is how many separate pieces the blocks are meant to form (a composite domain
+    of disjoint parts has several); pieces must not touch, not even at a corner.
     """
     frame = local_frame(vertices)
     local = frame.to_local(vertices)
@@ -714,7 +748,7 @@ def check_topology(vertices: np.ndarray, blocks: np.ndarray, neighbour: np.ndarr
     stop = np.roll(blocks, -1, axis=1).ravel()[slot]
     _check_contacts(vertices, local, blocks, slot, start, stop, _same_point_tol(frame))
     _check_gaps(vertices, local, slot, start, stop, frame)
-    _check_connected(neighbour)
+    _check_connected(neighbour, blocks, components)
     _check_full_turns(vertices, local, blocks, start, stop)
 
 
@@ -888,10 +922,17 @@ def _loop_labels(start: np.ndarray, stop: np.ndarray, n_points: int) -> np.ndarr
     return label[start]
 
 
-def _check_connected(neighbour: np.ndarray) -> None:
+def _check_connected(neighbour: np.ndarray, blocks: np.ndarray, components: int = 1) -> None:
     count, label = connected_pieces(neighbour)
-    if count == 1:
+    if count == components and count > 1:
+        _check_pieces_apart(blocks, label)
+    if count == components:
         return
+    if components > 1:
+        raise TopologyError(
+            f"the blocks form {count} separate pieces, but {components} are stated (components "
+            f"= {components}); state the number of pieces the blocks form"
+        )
     groups = [np.flatnonzero(label == k) for k in range(count)]
     groups.sort(key=len, reverse=True)
     listed = "; ".join(
@@ -903,6 +944,22 @@ def _check_connected(neighbour: np.ndarray) -> None:
         f"edge with another: connect block{'s' if ',' in loose else ''} {loose} to the rest "
         "(touching at a corner is not enough)"
     )
+
+
+def _check_pieces_apart(blocks: np.ndarray, label: np.ndarray) -> None:
+    """Separate pieces share no vertex (touching at a corner would pinch the domain)."""
+    pieces = np.repeat(label, blocks.shape[1])
+    vertex, first = np.unique(blocks.ravel(), return_index=True)
+    owner = np.empty(int(blocks.max()) + 1, dtype=np.int64)
+    owner[vertex] = pieces[first]
+    shared = blocks.ravel()[owner[blocks.ravel()] != pieces]
+    if shared.size:
+        v = int(shared[0])
+        touching = sorted({int(p) for p in pieces[blocks.ravel() == v]})
+        raise TopologyError(
+            f"pieces {touching[0]} and {touching[1]} of the blocks touch at vertex {v} only "
+            "(touching at a corner is not enough): join them along an edge or move them apart"
+        )
 
 
 def _check_full_turns(
@@ -990,18 +1047,7 @@ def resolve_patches(
         names.append(name)
         k_name = len(names) - 1
         for edge in edges:
-            pair = list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
-            if (
-                pair is None
-                or len(pair) != 2
-                or not all(
-                    isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair
-                )
-            ):
-                raise DomainFormatError(
-                    f"patch {name!r} has {edge!r}; each edge is a pair of vertex ids [a, b]"
-                )
-            key = (int(pair[0]), int(pair[1]))
+            key = edge_pair(edge, f"patch {name!r}")
             k = index.get(key)
             if k is None:
                 owners = _edge_owners(blocks, *key)
@@ -1034,6 +1080,24 @@ def resolve_patches(
     empty = [n for k, n in enumerate(names) if k not in used]
     _raise(DomainError, [f"patch {n!r} has no edges; give it edges or remove it" for n in empty])
     return tuple(names), patch
+
+
+def edge_pair(edge: object, owner: str) -> tuple[int, int]:
+    """``edge`` as a pair of vertex ids ``(a, b)``; DomainFormatError naming ``owner`` otherwise.
+
+    Examples
+    --------
+    >>> edge_pair([3, 4], "patch 'inlet'")
+    (3, 4)
+    """
+    pair = list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
+    if (
+        pair is None
+        or len(pair) != 2
+        or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair)
+    ):
+        raise DomainFormatError(f"{owner} has {edge!r}; each edge is a pair of vertex ids [a, b]")
+    return int(pair[0]), int(pair[1])
 
 
 def _edge_owners(blocks: np.ndarray, a: int, b: int) -> list[int]:

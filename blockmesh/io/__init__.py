@@ -3,8 +3,8 @@
 =========== ===================== =========================================================
 name        extensions            what
 =========== ===================== =========================================================
-vtu         .vtu                  VTK XML (ParaView) via meshio: polygons + boundary lines
-vtk         .vtk                  legacy VTK 5.1 (older tools) via meshio: the same
+vtu         .vtu                  VTK XML (ParaView): polygons + boundary lines, streamed
+vtk         .vtk                  legacy VTK 5.1 (older tools), through meshio: the same
 xdmf        .xdmf .xmf (+ .h5)    XDMF 3 + HDF5 written with h5py (fastest for big meshes)
 msh         .msh                  Gmsh 4.1 ASCII, pentagons split (``split``, default tri5)
 mat         .mat                  MATLAB v5 for PolyMesher / VEM codes (1-based)

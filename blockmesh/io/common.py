@@ -39,8 +39,10 @@ __all__ = [
     "curves_from_arrays",
     "decode_metadata",
     "encode_metadata",
+    "line_arrays",
     "mesh_from_arrays",
     "name_lookup",
+    "split_lines",
 ]
 
 #: Version of the JSON metadata block (names, level) the formats carry.
@@ -154,6 +156,7 @@ def encode_metadata(mesh: Mesh | PolygonMesh, **extra: Any) -> str:
             "level": int(mesh.level),
             "patch_names": list(mesh.patch_names),
             "region_names": list(mesh.region_names),
+            **({"interface_names": list(mesh.interface_names)} if mesh.interface_names else {}),
             **curved,
             **extra,
         },
@@ -274,6 +277,50 @@ def name_lookup(kind: str, names: tuple[str, ...] | list[str]) -> dict[str, int]
     return {f"{kind}:{name}": k for k, name in enumerate(names)}
 
 
+def line_arrays(mesh: Mesh | PolygonMesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The line cells of a mesh's file: boundary edges, then interface edges.
+
+    Returns ``(edges (Eb + Ei, 2), patch, interface)``: ``patch`` is the boundary edge's patch
+    and -1 on the interface lines, ``interface`` the interface edge's interface and -1 on the
+    boundary lines (the ``patch`` and ``interface`` cell data of VTU, VTK and XDMF files).
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> mesh = blockmesh.load_domain("layered-plate").mesh(0)
+    >>> edges, patch, interface = line_arrays(mesh)
+    >>> edges.shape[0] == mesh.boundary_edges.shape[0] + mesh.interface_edges.shape[0]
+    True
+    >>> sorted(set(interface.tolist()))
+    [-1, 0, 1]
+    """
+    eb, ei = mesh.boundary_edges.shape[0], mesh.interface_edges.shape[0]
+    edges = np.concatenate([mesh.boundary_edges, mesh.interface_edges])
+    patch = np.concatenate([mesh.boundary_patch, np.full(ei, -1, np.int64)])
+    interface = np.concatenate([np.full(eb, -1, np.int64), mesh.interface_patch])
+    return edges, patch, interface
+
+
+def split_lines(
+    edges: np.ndarray | None, patch: np.ndarray | None, interface: np.ndarray | None
+) -> dict[str, Any]:
+    """The arguments of :func:`mesh_from_arrays` from a file's line cells and their data.
+
+    Lines whose ``interface`` is >= 0 are interface edges; the others boundary edges (all of
+    them when the file has no ``interface`` data, as files written before interfaces).
+    """
+    if edges is None or interface is None:
+        return {"boundary_edges": edges, "boundary_patch": patch}
+    inner = np.asarray(interface).reshape(-1) >= 0
+    edges = np.asarray(edges).reshape(-1, 2)
+    return {
+        "boundary_edges": edges[~inner],
+        "boundary_patch": None if patch is None else np.asarray(patch).reshape(-1)[~inner],
+        "interface_edges": edges[inner],
+        "interface_patch": np.asarray(interface).reshape(-1)[inner],
+    }
+
+
 def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:
     arr = np.asarray(values).reshape(-1)
     if arr.shape[0] != n:
@@ -357,6 +404,9 @@ def mesh_from_arrays(
     boundary_edges: np.ndarray | None = None,
     boundary_patch: np.ndarray | None = None,
     patch_names: tuple[str, ...] | list[str] | None = None,
+    interface_edges: np.ndarray | None = None,
+    interface_patch: np.ndarray | None = None,
+    interface_names: tuple[str, ...] | list[str] | None = None,
     level: Any = 0,
     name: str = "",
     curves: CurvedEdges | None = None,
@@ -366,7 +416,8 @@ def mesh_from_arrays(
 
     Missing block ids become 0 for every cell; a missing parent -1; a missing region the single
     region ``"domain"``; missing boundary edges are found from the cells and put in one patch
-    ``"boundary"``. Shapes, index ranges and the mesh itself (orientation, boundary) are checked;
+    ``"boundary"``; missing interfaces are none. Shapes, index ranges and the mesh itself
+    (orientation, boundary, every interface edge between two cells) are checked;
     ``where`` names the file in the :class:`ExportError` raised when they are wrong. The arrays
     are taken over (made read-only), not copied. ``curves`` are the mesh's curved edges (from
     :func:`curves_from_arrays`); without them, ``dropped_curves`` (the count the file's metadata
@@ -403,13 +454,7 @@ def mesh_from_arrays(
         region = np.zeros(m, dtype=np.int64)
         region_names = region_names or ("domain",)
     region = _index_array(region, m, "region", where)
-    if region_names is None:
-        region_names = tuple(f"region_{k}" for k in range(int(region.max(initial=-1)) + 1))
-    if region.size and (region.min() < 0 or region.max() >= len(region_names)):
-        raise ExportError(
-            f"{where}: region indices run from {region.min()} to {region.max()}, "
-            f"but there are {len(region_names)} region names"
-        )
+    region_names = _names_of(region, region_names, "region", where)
     if boundary_edges is None:
         boundary_edges = boundary_of_cells(cells, n)
         boundary_patch = np.zeros(boundary_edges.shape[0], dtype=np.int64)
@@ -433,6 +478,7 @@ def mesh_from_arrays(
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
     level = _level(level, m, where)
     check_points(points, where)
+    interfaces = _interface_arrays(interface_edges, interface_patch, interface_names, n, where)
     try:
         mesh = Mesh(
             points=_read_only(points),
@@ -446,6 +492,7 @@ def mesh_from_arrays(
             region_names=tuple(str(r) for r in region_names),
             level=int(level),
             name=str(name),
+            **interfaces,
             curves=curves,
         )
     except (BlockMeshError, TypeError, ValueError) as error:
@@ -453,3 +500,39 @@ def mesh_from_arrays(
     if curves is None and int(dropped_curves or 0) > 0:
         _warn_dropped_curves(int(dropped_curves), where)
     return mesh
+
+
+def _interface_arrays(
+    edges: np.ndarray | None,
+    patch: np.ndarray | None,
+    names: tuple[str, ...] | list[str] | None,
+    n: int,
+    where: str,
+) -> dict[str, Any]:
+    """The interface arguments of a Mesh, checked (none when the file has none)."""
+    if edges is None or np.size(edges) == 0:
+        return {}
+    edges = np.asarray(edges).reshape(-1, 2)
+    ei = edges.shape[0]
+    edges = _index_array(edges, 2 * ei, "interface edges", where).reshape(-1, 2)
+    patch = np.zeros(ei, np.int64) if patch is None else _index_array(patch, ei, "interface", where)
+    names = _names_of(patch, _names(names, "interface names", where), "interface", where)
+    if edges.min() < 0 or edges.max() >= n:
+        raise ExportError(f"{where}: interface edge node ids are out of range (0..{n - 1})")
+    return {
+        "interface_edges": _read_only(edges),
+        "interface_patch": _read_only(patch),
+        "interface_names": tuple(str(k) for k in names),
+    }
+
+
+def _names_of(index: np.ndarray, names: Any, kind: str, where: str) -> Any:
+    """``names`` (``KIND_0``, ``KIND_1``, ... when None), checked to cover every index."""
+    if names is None:
+        names = tuple(f"{kind}_{k}" for k in range(int(index.max(initial=-1)) + 1))
+    if index.size and (index.min() < 0 or index.max() >= len(names)):
+        raise ExportError(
+            f"{where}: {kind} indices run from {index.min()} to {index.max()}, "
+            f"but there are {len(names)} {kind} names"
+        )
+    return names

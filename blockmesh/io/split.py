@@ -39,7 +39,7 @@ from blockmesh.geometry.topology import edge_index, edge_keys
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
-__all__ = ["SPLITS", "SplitBoundary", "SplitCells", "split_boundary", "split_cells"]
+__all__ = ["SPLITS", "SplitBoundary", "SplitCells", "split_boundary", "split_cells", "split_edges"]
 
 #: The splits :func:`split_cells` offers, with one line each.
 SPLITS = {
@@ -173,19 +173,29 @@ def split_boundary(mesh: Mesh | PolygonMesh, split: str) -> SplitBoundary:
     >>> split_boundary(Mesh.from_cells(sp, [[0, 1, 2, 3, 4]]), "quad5").edges[:2].tolist()
     [[0, 5], [5, 1]]
     """
+    return split_edges(mesh, split, mesh.boundary_edges, mesh.boundary_patch, "boundary edge")
+
+
+def split_edges(
+    mesh: Mesh | PolygonMesh, split: str, edges: np.ndarray, group: np.ndarray, what: str = "edge"
+) -> SplitBoundary:
+    """Any edges of the mesh's cells (boundary, interfaces) as lines matching :func:`split_cells`.
+
+    Each edge keeps its ``group`` (a patch or interface index); halved for ``quad5``.
+    """
     check_split(split)
     if split != "quad5":
-        return SplitBoundary(mesh.boundary_edges.copy(), mesh.boundary_patch.copy())
+        return SplitBoundary(np.array(edges, dtype=np.int64), np.array(group, dtype=np.int64))
     unique, _ = _midpoints(mesh)
-    be = mesh.boundary_edges
+    be = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
     keys = edge_keys(be[:, 0], be[:, 1], mesh.n_points)
     pos = np.minimum(np.searchsorted(unique, keys), max(unique.size - 1, 0))
     if keys.size and not np.array_equal(unique[pos], keys):
         bad = int(np.flatnonzero(unique[pos] != keys)[0])
         raise ExportError(
-            f"boundary edge {bad} (nodes {be[bad, 0]}, {be[bad, 1]}) is not an edge of any cell; "
+            f"{what} {bad} (nodes {be[bad, 0]}, {be[bad, 1]}) is not an edge of any cell; "
             "the mesh is inconsistent"
         )
     mid = mesh.n_points + pos
     halves = np.stack([np.stack([be[:, 0], mid], 1), np.stack([mid, be[:, 1]], 1)], axis=1)
-    return SplitBoundary(halves.reshape(-1, 2), np.repeat(mesh.boundary_patch, 2))
+    return SplitBoundary(halves.reshape(-1, 2), np.repeat(np.asarray(group, np.int64), 2))

@@ -15,19 +15,26 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
 from blockmesh.curves.edges import CurvedEdges, area_corrections
 from blockmesh.errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
-from blockmesh.geometry.topology import boundary_of_cells, check_boundary
+from blockmesh.geometry.topology import PolygonCells, boundary_of_cells, check_boundary
 from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas, widest_id_spread
 
 __all__ = ["Mesh", "MeshQuality"]
 
+
+#: The interfaces of a mesh that has none.
+_NO_EDGES = np.zeros((0, 2), dtype=np.int64)
+_NO_EDGES.setflags(write=False)
+_NO_IDS = np.zeros(0, dtype=np.int64)
+_NO_IDS.setflags(write=False)
 
 #: Cells whose areas :meth:`Mesh._check_cells` holds at once.
 _CHUNK = 1 << 18
@@ -133,6 +140,15 @@ class Mesh:
         them to every level. The ``.npz``, ``.xdmf`` and ``.vtu`` files keep them (a mesh read
         back refines onto its curves); the other formats keep only the nodes, which are on the
         curves, and their readers warn that refining such a mesh gives straight edges.
+    interface_edges : ndarray (Ei, 2) int64
+        Interior edges named as internal patches: where two regions of a composite domain meet.
+        Each is an edge of two cells; the cell on its left (as it runs from its first node to its
+        second) is the interface's first side. Empty for a domain of one material.
+    interface_patch : ndarray (Ei,) int64
+        Index into ``interface_names`` of each interface edge.
+    interface_names : tuple of str
+        Different from every patch name. :func:`blockmesh.refine` carries the interfaces to every
+        level, as it carries the boundary patches.
     """
 
     points: np.ndarray
@@ -147,6 +163,9 @@ class Mesh:
     level: int = 0
     name: str = ""
     curves: CurvedEdges | None = None
+    interface_edges: np.ndarray = field(default_factory=lambda: _NO_EDGES)
+    interface_patch: np.ndarray = field(default_factory=lambda: _NO_IDS)
+    interface_names: tuple[str, ...] = ()
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -180,16 +199,27 @@ class Mesh:
         set_ = object.__setattr__
         set_(self, "points", _frozen(self.points, np.float64, "points", (2,)))
         set_(self, "cells", _frozen(self.cells, np.int64, "cells", (5,)))
-        for name in ("block_id", "parent", "boundary_patch", "region"):
+        for name in ("block_id", "parent", "boundary_patch", "region", "interface_patch"):
             set_(self, name, _frozen(getattr(self, name), np.int64, name))
         set_(self, "boundary_edges", _frozen(self.boundary_edges, np.int64, "boundary_edges", (2,)))
-        for name in ("patch_names", "region_names"):
+        set_(
+            self,
+            "interface_edges",
+            _frozen(self.interface_edges, np.int64, "interface_edges", (2,)),
+        )
+        for name in ("patch_names", "region_names", "interface_names"):
             names = getattr(self, name)
             if isinstance(names, str) or not all(isinstance(n, str) for n in names):
                 raise ArgumentTypeError(f"Mesh {name} must be a sequence of strings, got {names!r}")
             if len(set(names)) != len(names):
                 raise ArgumentError(f"Mesh {name} must be different names, got {names!r}")
             set_(self, name, tuple(names))
+        clash = sorted(set(self.interface_names) & set(self.patch_names))
+        if clash:
+            raise ArgumentError(
+                f"Mesh interface {clash[0]!r} has the name of a boundary patch; an interface is "
+                "an internal patch and needs a name of its own"
+            )
         if isinstance(self.level, bool) or not isinstance(self.level, int | np.integer):
             raise ArgumentTypeError(f"Mesh level must be a whole number, got {self.level!r}")
         set_(self, "level", int(self.level))
@@ -211,6 +241,12 @@ class Mesh:
             raise ArgumentError(
                 f"Mesh boundary_patch has {self.boundary_patch.shape[0]} entries for {eb} "
                 "boundary edges"
+            )
+        ei = int(self.interface_edges.shape[0])
+        if self.interface_patch.shape[0] != ei:
+            raise ArgumentError(
+                f"Mesh interface_patch has {self.interface_patch.shape[0]} entries for {ei} "
+                "interface edges"
             )
         if not ranges:
             return
@@ -235,6 +271,14 @@ class Mesh:
             "region of cell",
             f"there are {len(self.region_names)} region names",
         )
+        _check_range(self.interface_edges, 0, n, "interface edge", points_note)
+        _check_range(
+            self.interface_patch,
+            0,
+            len(self.interface_names),
+            "interface_patch of edge",
+            f"there are {len(self.interface_names)} interface names",
+        )
 
     def _check_cells(self) -> None:
         """Finite points, counter-clockwise cells, boundary edges exactly the free cell edges."""
@@ -252,6 +296,8 @@ class Mesh:
                     "has no area; cells run counter-clockwise"
                 )
         check_boundary(self.cells, self.boundary_edges, self.n_points)
+        if self.interface_edges.shape[0]:
+            self.interface_cells()
 
     @classmethod
     def from_cells(
@@ -492,6 +538,7 @@ class Mesh:
             points=self.points[order],
             cells=new_id[self.cells],
             boundary_edges=new_id[self.boundary_edges],
+            interface_edges=new_id[self.interface_edges],
             curves=None if self.curves is None else self.curves.renumbered(new_id),
         )
 
@@ -532,6 +579,44 @@ class Mesh:
             )
         return self.boundary_edges[self.boundary_patch == self.patch_names.index(patch)]
 
+    @property
+    def interfaces(self) -> Mapping[str, np.ndarray]:
+        """Interface edges (E, 2) of each interface, by name (read-only view; empty if none).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("layered-plate").mesh(1)
+        >>> {name: len(edges) for name, edges in mesh.interfaces.items()}
+        {'bottom|core': 24, 'core|top': 24}
+        """
+        return MappingProxyType(
+            {
+                name: self.interface_edges[self.interface_patch == k]
+                for k, name in enumerate(self.interface_names)
+            }
+        )
+
+    def interface_cells(self) -> np.ndarray:
+        """The two cells of every interface edge, (Ei, 2): the one on its left, then its right.
+
+        Raises ArgumentError naming the first interface edge that is not an edge of two cells
+        (a boundary edge, or no edge at all). O(M log M), cached.
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("layered-plate").mesh(0)
+        >>> sides = mesh.region[mesh.interface_cells()]
+        >>> [mesh.region_names[k] for k in sides[0]]
+        ['bottom', 'core']
+        """
+        if "interface_cells" not in self._cache:
+            self._cache["interface_cells"] = _edge_cells(
+                self.cells, self.interface_edges, self.n_points
+            )
+        return self._cache["interface_cells"]
+
     # ------------------------------------------------------------ copies
     def _copy(self, **changes: Any) -> Mesh:
         """A copy with some arrays replaced; the cheap checks run, the caches start empty."""
@@ -570,6 +655,34 @@ class Mesh:
         """
         return self._copy(region=region, region_names=tuple(region_names))
 
+    def with_interfaces(
+        self, interface_edges: Any, interface_patch: Any, interface_names: Any
+    ) -> Mesh:
+        """The same mesh with other interfaces (internal patches); each edge is checked.
+
+        Parameters
+        ----------
+        interface_edges : array_like (Ei, 2) int
+            Edges each shared by two cells, the first side's cell on the left.
+        interface_patch : array_like (Ei,) int
+            Index into ``interface_names`` of every interface edge.
+        interface_names : sequence of str
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = blockmesh.load_domain("joined-2").mesh(0)
+        >>> mesh.with_interfaces([[1, 2]], [0], ["glue"]).interfaces["glue"].tolist()
+        [[1, 2]]
+        """
+        changed = self._copy(
+            interface_edges=interface_edges,
+            interface_patch=interface_patch,
+            interface_names=tuple(interface_names),
+        )
+        changed.interface_cells()
+        return changed
+
     def with_points(self, points: Any) -> Mesh:
         """The same cells on moved nodes (e.g. after smoothing); orientation is checked again.
 
@@ -591,15 +704,58 @@ class Mesh:
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
         name = f"{self.name!r}, " if self.name else ""
+        interfaces = (
+            f"; interfaces {', '.join(self.interface_names)}" if self.interface_names else ""
+        )
         return (
             f"Mesh({name}level {self.level}: {self.n_cells:,} cells, {self.n_points:,} points, "
             f"{self.boundary_edges.shape[0]:,} boundary edges; patches "
-            f"{', '.join(self.patch_names) or '-'}; regions {', '.join(self.region_names) or '-'})"
+            f"{', '.join(self.patch_names) or '-'}; regions {', '.join(self.region_names) or '-'}"
+            f"{interfaces})"
         )
 
     def nbytes(self) -> int:
         """Bytes held by the mesh's arrays."""
         arrays = (self.points, self.cells, self.block_id, self.parent, self.region)
         return (
-            sum(a.nbytes for a in arrays) + self.boundary_edges.nbytes + self.boundary_patch.nbytes
+            sum(a.nbytes for a in arrays)
+            + self.boundary_edges.nbytes
+            + self.boundary_patch.nbytes
+            + self.interface_edges.nbytes
+            + self.interface_patch.nbytes
         )
+
+
+def _edge_cells(cells: np.ndarray | PolygonCells, edges: np.ndarray, n_points: int) -> np.ndarray:
+    """The cell on the left and the cell on the right of each edge, (E, 2); located errors.
+
+    ``cells`` are an (M, k) array or the compressed rows of a polygon mesh.
+    """
+    out = np.empty((edges.shape[0], 2), dtype=np.int64)
+    if edges.shape[0] == 0:
+        out.setflags(write=False)
+        return out
+    owner: np.ndarray | None = None  # the cell of every slot (else slot // k)
+    if isinstance(cells, PolygonCells):
+        keys = cells.nodes * n_points + cells.following()
+        owner, width = cells.slot_cell(), 0
+    else:
+        keys = (cells * n_points + np.roll(cells, -1, axis=1)).ravel()
+        width = cells.shape[1]
+    order = np.argsort(keys, kind="stable")
+    ordered = keys[order]
+    for side, (a, b) in enumerate(((edges[:, 0], edges[:, 1]), (edges[:, 1], edges[:, 0]))):
+        wanted = a * n_points + b
+        at = np.minimum(np.searchsorted(ordered, wanted), ordered.size - 1)
+        found = ordered[at] == wanted
+        if not np.all(found):
+            k = int(np.flatnonzero(~found)[0])
+            raise ArgumentError(
+                f"interface edge {k} ({int(edges[k, 0])}, {int(edges[k, 1])}) is not an edge "
+                "between two cells; an interface runs between cells (boundary edges belong to "
+                "patches)"
+            )
+        slots = order[at]
+        out[:, side] = slots // width if owner is None else owner[slots]
+    out.setflags(write=False)
+    return out

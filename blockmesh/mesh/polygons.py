@@ -1,9 +1,10 @@
 """Meshes of polygon cells of any number of vertices: hanging nodes, local refinement, VEM.
 
 A :class:`PolygonMesh` holds everything a :class:`~blockmesh.mesh.Mesh` holds (nodes, cells,
-blocks, parents, patches, regions, level, name, curves) for cells of 3 or more vertices each. The
-cells are stored in compressed rows (:class:`~blockmesh.geometry.topology.PolygonCells`: cell
-``c`` is ``nodes[offsets[c]:offsets[c + 1]]``), and grouped by vertex count on demand
+blocks, parents, patches, regions, interfaces, level, name, curves) for cells of 3 or more
+vertices each. The cells are stored in compressed rows
+(:class:`~blockmesh.geometry.topology.PolygonCells`: cell ``c`` is
+``nodes[offsets[c]:offsets[c + 1]]``), and grouped by vertex count on demand
 (:attr:`PolygonMesh.groups`) so that work on cells of one size is one rectangular array.
 
 Where it comes from: :func:`blockmesh.refine` with ``cells=`` (local refinement: a refined cell's
@@ -42,6 +43,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import MISSING, dataclass, field, fields
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -63,9 +65,15 @@ from blockmesh.geometry.topology import (
     edge_keys,
     unique_edges,
 )
-from blockmesh.mesh.mesh import Mesh, MeshQuality
+from blockmesh.mesh.mesh import Mesh, MeshQuality, _edge_cells
 
 __all__ = ["CellGroup", "PolygonMesh", "as_polygon_mesh"]
+
+#: The interfaces of a mesh that has none.
+_NO_EDGES = np.zeros((0, 2), dtype=np.int64)
+_NO_EDGES.setflags(write=False)
+_NO_IDS = np.zeros(0, dtype=np.int64)
+_NO_IDS.setflags(write=False)
 
 #: A vertex within this many coordinate spacings (ulps) of the chord of its two neighbours is
 #: straight whatever its sine: midpoints are rounded to the spacing.
@@ -152,12 +160,20 @@ class PolygonMesh:
     name : str
     curves : CurvedEdges or None
         The edges on curved block edges (see :class:`~blockmesh.mesh.Mesh`).
+    interface_edges : ndarray (Ei, 2) int64
+        Interior edges named as internal patches, where two regions of a composite domain meet
+        (see :class:`~blockmesh.mesh.Mesh`): each an edge of two cells, the interface's first
+        side on its left. An interface edge a finer neighbour split is two interface edges.
+    interface_patch : ndarray (Ei,) int64
+        Index into ``interface_names`` of each interface edge.
+    interface_names : tuple of str
+        Different from every patch name.
 
     The constructor checks: shapes and index ranges, cells of at least 3 distinct nodes, finite
     points, every cell counter-clockwise and star-shaped from its vertex mean (what the
     composite quadrature and the virtual elements need), boundary edges exactly the free cell
-    edges, directed, and no edge in three cells. Convexity is checked by
-    :meth:`check_geometry` (the writers' final guard).
+    edges, directed, no edge in three cells, and every interface edge an edge of two cells.
+    Convexity is checked by :meth:`check_geometry` (the writers' final guard).
     """
 
     points: np.ndarray
@@ -174,6 +190,9 @@ class PolygonMesh:
     level: int = 0
     name: str = ""
     curves: CurvedEdges | None = None
+    interface_edges: np.ndarray = field(default_factory=lambda: _NO_EDGES)
+    interface_patch: np.ndarray = field(default_factory=lambda: _NO_IDS)
+    interface_names: tuple[str, ...] = ()
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -217,11 +236,13 @@ class PolygonMesh:
             ("boundary_patch", ()),
             ("region", ()),
             ("cell_level", ()),
+            ("interface_patch", ()),
             ("boundary_edges", (2,)),
+            ("interface_edges", (2,)),
         ):
             original = getattr(self, name)
             array = _int_array(original, name)
-            if name == "boundary_edges":
+            if name in ("boundary_edges", "interface_edges"):
                 array = array.reshape(-1, 2) if array.size == 0 else array
             if array.ndim != 1 + len(tail) or array.shape[1:] != tail:
                 shape = "(n" + "".join(f", {t}" for t in tail) + ")"
@@ -229,7 +250,7 @@ class PolygonMesh:
                     f"PolygonMesh {name} must have shape {shape}, got {array.shape}"
                 )
             set_(self, name, _frozen(array, original))
-        for name in ("patch_names", "region_names"):
+        for name in ("patch_names", "region_names", "interface_names"):
             names = getattr(self, name)
             if isinstance(names, str) or not all(isinstance(n, str) for n in names):
                 raise ArgumentTypeError(
@@ -238,6 +259,12 @@ class PolygonMesh:
             if len(set(names)) != len(names):
                 raise ArgumentError(f"PolygonMesh {name} must be different names, got {names!r}")
             set_(self, name, tuple(names))
+        clash = sorted(set(self.interface_names) & set(self.patch_names))
+        if clash:
+            raise ArgumentError(
+                f"PolygonMesh interface {clash[0]!r} has the name of a boundary patch; an "
+                "interface is an internal patch and needs a name of its own"
+            )
         if isinstance(self.level, bool) or not isinstance(self.level, int | np.integer):
             raise ArgumentTypeError(f"PolygonMesh level must be a whole number, got {self.level!r}")
         set_(self, "level", int(self.level))
@@ -273,6 +300,12 @@ class PolygonMesh:
                 f"PolygonMesh boundary_patch has {self.boundary_patch.shape[0]} entries for {eb} "
                 "boundary edges"
             )
+        ei = int(self.interface_edges.shape[0])
+        if self.interface_patch.shape[0] != ei:
+            raise ArgumentError(
+                f"PolygonMesh interface_patch has {self.interface_patch.shape[0]} entries for "
+                f"{ei} interface edges"
+            )
         n = self.n_points
         for values, what, low, high in (
             (self.nodes, "cell node", 0, n),
@@ -282,6 +315,8 @@ class PolygonMesh:
             (self.cell_level, "cell_level", 0, None),
             (self.boundary_patch, "boundary_patch", 0, len(self.patch_names)),
             (self.region, "region", 0, len(self.region_names)),
+            (self.interface_edges, "interface edge node", 0, n),
+            (self.interface_patch, "interface_patch", 0, len(self.interface_names)),
         ):
             if values.size == 0:
                 continue
@@ -324,6 +359,8 @@ class PolygonMesh:
             )
             raise ArgumentError(f"cell {cell} (nodes {self.cell(cell).tolist()}) {why}")
         check_boundary(cells, self.boundary_edges, self.n_points)
+        if self.interface_edges.shape[0]:
+            self.interface_cells()
 
     # ---------------------------------------------------------- construction
     @classmethod
@@ -354,6 +391,9 @@ class PolygonMesh:
             level=mesh.level,
             name=mesh.name,
             curves=mesh.curves,
+            interface_edges=mesh.interface_edges,
+            interface_patch=mesh.interface_patch,
+            interface_names=mesh.interface_names,
         )
         out._cache["mesh"] = mesh
         return out
@@ -361,9 +401,9 @@ class PolygonMesh:
     def to_mesh(self) -> Mesh:
         """The same mesh as an all-pentagon :class:`~blockmesh.mesh.Mesh` (lossless).
 
-        Raises DomainError naming a cell that is not a pentagon. Every array, name, the level
-        and the curves are kept (``cell_level`` is the level everywhere in a uniformly refined
-        mesh; a Mesh has no per-cell level).
+        Raises DomainError naming a cell that is not a pentagon. Every array, name, the level,
+        the interfaces and the curves are kept (``cell_level`` is the level everywhere in a
+        uniformly refined mesh; a Mesh has no per-cell level).
 
         Examples
         --------
@@ -396,6 +436,9 @@ class PolygonMesh:
             level=self.level,
             name=self.name,
             curves=self.curves,
+            interface_edges=self.interface_edges,
+            interface_patch=self.interface_patch,
+            interface_names=self.interface_names,
         )
         self._cache["mesh"] = mesh
         return mesh
@@ -842,6 +885,36 @@ class PolygonMesh:
         """Boundary edges (E, 2) of the named patch."""
         return self.boundary_edges[self.boundary_patch == self.patch_index(patch)]
 
+    @property
+    def interfaces(self) -> Mapping[str, np.ndarray]:
+        """Interface edges (E, 2) of each interface, by name (read-only view; empty if none).
+
+        Examples
+        --------
+        >>> import blockmesh
+        >>> mesh = PolygonMesh.from_mesh(blockmesh.load_domain("layered-plate").mesh(1))
+        >>> {name: len(edges) for name, edges in mesh.interfaces.items()}
+        {'bottom|core': 24, 'core|top': 24}
+        """
+        return MappingProxyType(
+            {
+                name: self.interface_edges[self.interface_patch == k]
+                for k, name in enumerate(self.interface_names)
+            }
+        )
+
+    def interface_cells(self) -> np.ndarray:
+        """The two cells of every interface edge, (Ei, 2): the one on its left, then its right.
+
+        Raises ArgumentError naming the first interface edge that is not an edge of two cells.
+        O(S log S), cached.
+        """
+        if "interface_cells" not in self._cache:
+            self._cache["interface_cells"] = _edge_cells(
+                self.polygon_cells(), self.interface_edges, self.n_points
+            )
+        return self._cache["interface_cells"]
+
     # ------------------------------------------------------------------ copies
     def _copy(self, **changes: Any) -> PolygonMesh:
         values = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "_cache"}
@@ -861,6 +934,7 @@ class PolygonMesh:
             points=self.points[order],
             nodes=new_id[self.nodes],
             boundary_edges=new_id[self.boundary_edges],
+            interface_edges=new_id[self.interface_edges],
             curves=None if self.curves is None else self.curves.renumbered(new_id),
         )
 
@@ -871,6 +945,26 @@ class PolygonMesh:
     def with_regions(self, region: Any, region_names: Any) -> PolygonMesh:
         """The same mesh with its cells put in other regions (``region`` indexes the names)."""
         return self._copy(region=region, region_names=tuple(region_names))
+
+    def with_interfaces(
+        self, interface_edges: Any, interface_patch: Any, interface_names: Any
+    ) -> PolygonMesh:
+        """The same mesh with other interfaces (internal patches); each edge is checked.
+
+        Examples
+        --------
+        >>> pts = [(0, 0), (1, 0), (2, 0), (2, 1), (1, 1), (0, 1)]
+        >>> mesh = PolygonMesh.from_cells(pts, [[0, 1, 4, 5], [1, 2, 3, 4]])
+        >>> mesh.with_interfaces([[1, 4]], [0], ["glue"]).interface_cells().tolist()
+        [[0, 1]]
+        """
+        changed = self._copy(
+            interface_edges=interface_edges,
+            interface_patch=interface_patch,
+            interface_names=tuple(interface_names),
+        )
+        changed.interface_cells()
+        return changed
 
     def with_points(self, points: Any) -> PolygonMesh:
         """The same cells on moved nodes; orientation and star shape are checked again."""
@@ -894,6 +988,8 @@ class PolygonMesh:
             self.cell_level,
             self.boundary_edges,
             self.boundary_patch,
+            self.interface_edges,
+            self.interface_patch,
         )
         return sum(a.nbytes for a in arrays)
 
@@ -902,10 +998,13 @@ class PolygonMesh:
         sizes = np.bincount(self.cell_sizes()) if self.n_cells else np.zeros(0, dtype=np.int64)
         counts = ", ".join(f"{int(c):,} with {k}" for k, c in enumerate(sizes) if c)
         name = f"{self.name!r}, " if self.name else ""
+        interfaces = (
+            f"; interfaces {', '.join(self.interface_names)}" if self.interface_names else ""
+        )
         return (
             f"PolygonMesh({name}level {self.level}: {self.n_cells:,} cells ({counts or 'none'} "
             f"vertices), {self.n_points:,} points; patches {', '.join(self.patch_names) or '-'}; "
-            f"regions {', '.join(self.region_names) or '-'})"
+            f"regions {', '.join(self.region_names) or '-'}{interfaces})"
         )
 
 

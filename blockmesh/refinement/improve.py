@@ -3,8 +3,9 @@
 The paper's refinement degrades with level (the worst angle shrinks by about a quarter per level)
 and :mod:`blockmesh.refinement.smoothing` cannot move the nodes on block edges.
 :func:`optimize_nodes` moves every node that is not on the domain boundary, block-edge nodes
-included, and lets boundary nodes slide along their own straight boundary line; domain corners, the
-nodes where the patch changes and the nodes on curves stay where they are
+included, and lets boundary nodes slide along their own straight boundary line (interface nodes
+of a composite domain along their straight interface); domain corners, the nodes where the patch
+changes and the nodes on curves stay where they are
 (:meth:`~blockmesh.refinement.placement.Freedom.of_mesh`). Topology, counts, patches and regions
 are unchanged, and every cell stays strictly convex. It minimises the shape energy of
 :mod:`blockmesh.refinement.shape`; :class:`~blockmesh.refinement.placement.ShapeOptimization` is

@@ -38,6 +38,7 @@ from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
 from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
+from blockmesh.refinement.interfaces import refined_interfaces
 from blockmesh.refinement.local import refine_locally
 from blockmesh.refinement.placement import (
     LaplacianSmoothing,
@@ -330,7 +331,7 @@ def _build(
     refined = refine_blocks(
         base, neighbour, level, curved=curved, threads=threads, progress=progress
     )
-    return _assemble(base, refined, level, curved)
+    return _assemble(base, refined, level, curved, neighbour)
 
 
 def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
@@ -368,15 +369,20 @@ def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, 
         region=_repeat(base.region, per_block),
         boundary_nodes=edge_ids[cell, edge],
     )
-    return _assemble(base, refined, level)
+    return _assemble(base, refined, level, neighbour=neighbour)
 
 
 def _assemble(
-    base: Mesh, refined: RefinedBlocks, steps: int, curved: CurvedBlocks | None = None
+    base: Mesh,
+    refined: RefinedBlocks,
+    steps: int,
+    curved: CurvedBlocks | None = None,
+    neighbour: np.ndarray | None = None,
 ) -> Mesh:
     """The Mesh of ``base`` refined ``steps`` times from the arrays ``refined``.
 
     ``curved``, when given, has recorded every curved block: the mesh gets its refined curves.
+    ``neighbour`` (the base's cell neighbours) is needed when the base has interfaces.
     """
     along = refined.boundary_nodes
     boundary_edges = np.stack([along[:, :-1], along[:, 1:]], axis=-1).reshape(-1, 2)
@@ -389,6 +395,11 @@ def _assemble(
         "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
         "region": refined.region,
     }
+    if base.interface_edges.shape[0]:
+        if neighbour is None:
+            neighbour = cell_neighbours(base.cells, base.n_points)
+        arrays["interface_edges"] = refined_interfaces(base, neighbour, steps)
+        arrays["interface_patch"] = np.repeat(base.interface_patch, 2**steps)
     for array in arrays.values():
         array.setflags(write=False)
     return Mesh._trusted(
@@ -396,6 +407,7 @@ def _assemble(
         **arrays,
         patch_names=base.patch_names,
         region_names=base.region_names,
+        interface_names=base.interface_names,
         level=base.level + steps,
         name=base.name,
         curves=None if curved is None else curved.refined(),

@@ -82,7 +82,9 @@ class Freedom:
 
         A boundary node slides along its boundary line where the boundary runs straight through
         it within one patch; domain corners, nodes where the patch changes and every node of a
-        curved edge stay.
+        curved edge stay. An interface node of a composite domain slides along its interface
+        where that runs straight through it; where an interface
+        turns, changes name, meets another or reaches the boundary, the node stays.
 
         Examples
         --------
@@ -113,11 +115,51 @@ class Freedom:
         fixed[nodes[~slides]] = True
         slide = np.zeros((n, 2))
         slide[nodes[slides]] = t_out[slides] / np.hypot(*t_out[slides].T)[:, None]
+        if mesh.interface_edges.shape[0]:
+            # Where an interface reaches the boundary the node stays (a corner of both regions).
+            meets = np.intersect1d(nodes, mesh.interface_edges)
+            fixed[meets] = True
+            slide[meets] = 0.0
+            inner, direction, stays = _interface_freedom(mesh, nodes)
+            slide[inner] = direction
+            fixed[stays] = True
         if mesh.curves is not None and len(mesh.curves):
             on_curves = np.unique(mesh.curves.edges)
             fixed[on_curves] = True
             slide[on_curves] = 0.0
         return cls(fixed, slide)
+
+
+def _interface_freedom(
+    mesh: Mesh, boundary_nodes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Interface nodes that slide along their interface (ids, unit directions), and fixed ones.
+
+    A node inside a straight run of one interface slides along it; where an interface turns
+    (a chord of a curve), changes name, meets another or reaches the boundary, the node stays.
+    """
+    edges = mesh.interface_edges
+    ends = np.concatenate([edges, edges[:, ::-1]])
+    group = np.concatenate([mesh.interface_patch, mesh.interface_patch])
+    order = np.argsort(ends[:, 0], kind="stable")
+    ends, group = ends[order], group[order]
+    nodes, start, count = np.unique(ends[:, 0], return_index=True, return_counts=True)
+    two = count == 2
+    first, second = start[two], start[two] + 1
+    pts = mesh.points
+    t_in = pts[nodes[two]] - pts[ends[first, 1]]
+    t_out = pts[ends[second, 1]] - pts[nodes[two]]
+    cross = t_in[:, 0] * t_out[:, 1] - t_in[:, 1] * t_out[:, 0]
+    norms = np.hypot(*t_in.T) * np.hypot(*t_out.T)
+    slides = np.zeros(nodes.size, dtype=bool)
+    slides[two] = (
+        (np.abs(cross) <= COLLINEAR_SIN_TOL * norms)
+        & (group[first] == group[second])
+        & ~np.isin(nodes[two], boundary_nodes)
+    )
+    chosen = slides[two]
+    direction = t_out[chosen] / np.hypot(*t_out[chosen].T)[:, None]
+    return nodes[slides], direction, nodes[~slides]
 
 
 class Placement(ABC):

@@ -29,7 +29,13 @@ from typing import Any
 import numpy as np
 
 from blockmesh.errors import ArgumentTypeError, SolverError
-from blockmesh.vem.fields import Field, free_vector_field, scalar_field, vector_field
+from blockmesh.vem.fields import (
+    Field,
+    RegionField,
+    free_vector_field,
+    scalar_field,
+    vector_field,
+)
 from blockmesh.vem.polygons import PolygonMesh
 from blockmesh.vem.rules import edge_rule
 
@@ -95,14 +101,14 @@ class ProblemData:
 
     Attributes
     ----------
-    load : tuple of Field
-        The source f (one field) or the body force (two).
+    load : tuple of Field or RegionField
+        The source f (one field) or the body force (two); per region on a composite domain.
     conditions : BoundaryConditions
     recipe : str
         The stabilisation recipe; ``scale`` its factor.
     """
 
-    load: tuple[Field, ...]
+    load: tuple[Field | RegionField, ...]
     conditions: BoundaryConditions
     recipe: str
     scale: float
@@ -124,7 +130,7 @@ def boundary_conditions(
     UnknownNameError
         For a patch the mesh does not have (the message lists the patches).
     SolverError
-        For a patch given both conditions.
+        For a patch given both conditions, or a condition on an interface.
     """
     given = {}
     for name, mapping in ((dirichlet_name, dirichlet), (neumann_name, neumann)):
@@ -137,6 +143,13 @@ def boundary_conditions(
         for patch in mapping:
             if not isinstance(patch, str):
                 raise ArgumentTypeError(f"{name}: patch names are strings, got {patch!r}")
+            if patch in mesh.interface_names and patch not in mesh.patch_names:
+                raise SolverError(
+                    f"{name} condition on {patch!r}: that is an interface (an internal patch "
+                    "between two regions), not a boundary patch; across an interface u and the "
+                    "flux are continuous by themselves. Give conditions on the boundary patches: "
+                    f"{', '.join(mesh.patch_names)}"
+                )
             mesh.patch_index(patch)
         given[name] = mapping
     both = [p for p in given[dirichlet_name] if p in given[neumann_name]]

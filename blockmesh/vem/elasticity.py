@@ -11,6 +11,10 @@ the cell's mean displacement gradient ``W u``. The cell stiffness is the consist
 engineering shear ``γ_xy``) plus a stabilisation (``"trace"`` by default, see
 :mod:`blockmesh.vem.stabilization`). Stresses are constant per cell: ``σ = C B u``.
 
+On a composite domain E, ν and the body force may be given per region (a mapping region ->
+value, ``"*"`` for the regions not named): every cell takes its region's C, and the interfaces
+carry the natural conditions (the displacement continuous, the traction balanced weakly).
+
 Examples
 --------
 >>> import blockmesh
@@ -44,7 +48,13 @@ from blockmesh.vem.assembly import (
     solve_system,
 )
 from blockmesh.vem.boundary import ProblemData, boundary_conditions
-from blockmesh.vem.fields import Field, vector_field
+from blockmesh.vem.fields import (
+    Field,
+    RegionField,
+    region_values,
+    region_vector_field,
+    vector_field,
+)
 from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.vem.projections import Projections, projections
@@ -101,8 +111,9 @@ class ElasticitySolution:
         The von Mises stress (with ``σ_zz = ν (σ_xx + σ_yy)`` in plane strain).
     info : SolveInfo
     seconds : float
-    material : ndarray (3, 3)
-        The matrix C of :func:`elasticity_matrix`.
+    material : ndarray (3, 3), or (R, 3, 3)
+        The matrix C of :func:`elasticity_matrix`; one per region (in the order of the mesh's
+        region names) when E or ν is given per region.
     """
 
     mesh: PolygonMesh
@@ -129,14 +140,15 @@ class ElasticitySolution:
 
         Parameters
         ----------
-        exact : pair or str
-            ``(u_x, u_y)`` as numbers, strings or callables, or ``"UX, UY"``.
+        exact : pair or str, or a mapping of region to one of those
+            ``(u_x, u_y)`` as numbers, strings or callables, or ``"UX, UY"``; per region on a
+            composite domain.
         gradient : pair of pairs, optional
             ``((∂u_x/∂x, ∂u_x/∂y), (∂u_y/∂x, ∂u_y/∂y))``; finite differences when omitted.
         order : int, optional
             Quadrature order (default: the solve's order + 1).
         """
-        fields = vector_field(exact, "exact displacement")
+        fields = region_vector_field(exact, "exact displacement", self.mesh.region_names)
         grad = None
         if gradient is not None:
             if not (isinstance(gradient, tuple | list) and len(gradient) == 2):
@@ -144,10 +156,14 @@ class ElasticitySolution:
             grad = [vector_field(row, "exact gradient") for row in gradient]
         c = self.material
 
-        def energy(_x: np.ndarray, _y: np.ndarray, _e: np.ndarray, de: np.ndarray) -> np.ndarray:
+        def energy(
+            _x: np.ndarray, _y: np.ndarray, _e: np.ndarray, de: np.ndarray, region: np.ndarray
+        ) -> np.ndarray:
             strain = np.stack(
                 [de[..., 0, 0], de[..., 1, 1], de[..., 0, 1] + de[..., 1, 0]], axis=-1
             )
+            if c.ndim == 3:
+                return np.einsum("cqa,cab,cqb->cq", strain, c[region], strain)
             return np.einsum("...a,ab,...b->...", strain, c, strain)
 
         rule_order = check_order(self._order + 1 if order is None else order)
@@ -178,9 +194,10 @@ def solve_elasticity(
     Parameters
     ----------
     mesh : Mesh or PolygonMesh
-    young, poisson : float
-        Young's modulus E > 0 and Poisson's ratio ν in (-1, 0.5).
-    source : pair or str
+    young, poisson : float, or a mapping of region to a float
+        Young's modulus E > 0 and Poisson's ratio ν in (-1, 0.5); per region on a composite
+        domain (``{"steel": 200e3, "rubber": 10}``, ``"*"`` for the regions not named).
+    source : pair or str, or a mapping of region to one of those
         The body force ``(f_x, f_y)`` per unit area (numbers, expressions, callables, or
         ``"FX, FY"``); the role ``source`` has in :func:`~blockmesh.vem.solve_poisson` (earlier
         name: ``body_force``).
@@ -214,13 +231,25 @@ def solve_elasticity(
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
-    material = elasticity_matrix(young, poisson, plane)
+    names = pm.region_names
+    cell_region = pm.region
+    per_region = isinstance(young, Mapping) or isinstance(poisson, Mapping)
+    if per_region:
+        e_of = region_values(young, "Young's modulus", names)
+        nu_of = region_values(poisson, "Poisson's ratio", names)
+        material = np.stack(
+            [elasticity_matrix(e, nu, plane) for e, nu in zip(e_of, nu_of, strict=True)]
+        )
+        nu_cells = nu_of[cell_region]
+    else:
+        material = elasticity_matrix(young, poisson, plane)
+        nu_cells = np.full(pm.n_cells, float(poisson))
     order = check_order(order)
     recipe = check_stabilization(stabilization, ("trace", "diagonal"))
     scale = check_scale(stabilization_scale)
     if constraint is not None and constraint != "rigid":
         raise ArgumentError(f"unknown constraint {constraint!r}; choose one of: rigid")
-    force = vector_field(source, "body force")
+    force = region_vector_field(source, "body force", names)
     bc = boundary_conditions(
         pm,
         dirichlet,
@@ -234,10 +263,12 @@ def solve_elasticity(
     for group in pm.groups:
         proj = projections(pm.points, group.cells)
         strain_map = _strain_matrix(proj.gradient)
-        k = _stiffness(proj, strain_map, material, recipe, scale)
+        region = cell_region[group.index]
+        group_material = material[region] if per_region else material
+        k = _stiffness(proj, strain_map, group_material, recipe, scale)
         dofs.append(np.stack([2 * group.cells, 2 * group.cells + 1], axis=2).reshape(k.shape[:2]))
         stiffness.append(k)
-        load.append(_body_load(pm, group.cells, proj, force, order))
+        load.append(_body_load(pm, group.cells, region, proj, force, order))
         projs.append(proj)
         strains.append(strain_map)
     size = 2 * pm.n_points
@@ -260,8 +291,11 @@ def solve_elasticity(
     strain = np.empty((pm.n_cells, 3))
     for group, d, strain_map in zip(pm.groups, dofs, strains, strict=True):
         strain[group.index] = np.einsum("mak,mk->ma", strain_map, u[d])
-    stress = strain @ material.T
-    mises = _von_mises(stress, float(poisson), plane)
+    if per_region:
+        stress = np.einsum("mab,mb->ma", material[cell_region], strain)
+    else:
+        stress = strain @ material.T
+    mises = _von_mises(stress, nu_cells, plane)
     displacement_values = u.reshape(-1, 2)
     for array in (displacement_values, strain, stress, mises):
         array.setflags(write=False)
@@ -303,7 +337,12 @@ def _stiffness(
 
 
 def _body_load(
-    pm: PolygonMesh, cells: np.ndarray, proj: Projections, force: tuple[Field, Field], order: int
+    pm: PolygonMesh,
+    cells: np.ndarray,
+    region: np.ndarray,
+    proj: Projections,
+    force: tuple[Field | RegionField, Field | RegionField],
+    order: int,
 ) -> np.ndarray:
     n_cells, n = cells.shape
     out = np.zeros((n_cells, n, 2))
@@ -315,7 +354,7 @@ def _body_load(
         monomials = proj.monomials(x, y, part)
         for a, f in enumerate(force):
             if not f.is_zero:
-                moments = np.einsum("cq,cqa->ca", w * f(x, y), monomials)
+                moments = np.einsum("cq,cqa->ca", w * f.at(x, y, region[part]), monomials)
                 out[part, :, a] = np.einsum("ca,can->cn", moments, coefficients[part])
     return out.reshape(n_cells, 2 * n)
 
@@ -373,7 +412,7 @@ def _describe(free: np.ndarray) -> str:
     return "; ".join(parts)
 
 
-def _von_mises(stress: np.ndarray, poisson: float, plane: str) -> np.ndarray:
+def _von_mises(stress: np.ndarray, poisson: np.ndarray, plane: str) -> np.ndarray:
     sxx, syy, sxy = stress.T
     szz = poisson * (sxx + syy) if plane == "strain" else np.zeros_like(sxx)
     return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)

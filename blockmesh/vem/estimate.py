@@ -21,7 +21,11 @@ divergence, the stress being constant per cell), the traction jumps ``[σ(Πu_h)
 traction residual ``t - σ n`` on traction and free patches, and the elasticity stabilisation.
 
 ``∇·(κ ∇Π∇u_h) = ∇κ · ∇Π∇u_h`` (the projected gradient is constant per cell); a κ that is not
-constant is differentiated by central differences. Integrals use the composite rule of
+constant is differentiated by central differences. On a composite domain the data may be given
+per region (:class:`~blockmesh.vem.fields.RegionField`): each cell takes its region's f, κ, c (or
+C), and the flux jump across an edge is ``κ_1 ∇Π∇u_1 · n - κ_2 ∇Π∇u_2 · n`` with each side's own
+κ, so that across an interface, where κ jumps and the exact flux does not, it measures the
+flux's discontinuity. Integrals use the composite rule of
 :mod:`blockmesh.vem.rules` on cells and Gauss-Legendre on edges, at the solve's order.
 
 Examples
@@ -48,7 +52,7 @@ from blockmesh.geometry.topology import boundary_slots, cell_neighbours
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.vem.boundary import ProblemData
 from blockmesh.vem.elasticity import ElasticitySolution, _strain_matrix
-from blockmesh.vem.fields import Field
+from blockmesh.vem.fields import Field, RegionField
 from blockmesh.vem.norms import GRADIENT_STEP, _numerical_gradient
 from blockmesh.vem.poisson import PoissonSolution
 from blockmesh.vem.rules import cell_chunks, cell_rule, edge_rule, points_per_cell
@@ -154,12 +158,25 @@ def _cell_diameters(mesh: PolygonMesh) -> np.ndarray:
     return mesh.cell_diameters()
 
 
-def _gradient_of(field: Field, x: np.ndarray, y: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """∇field at the points (..., 2): zero for a constant, else central differences."""
-    if field.constant is not None:
+def _gradient_of(
+    field: Field | RegionField, x: np.ndarray, y: np.ndarray, step: np.ndarray, region: np.ndarray
+) -> np.ndarray:
+    """∇field at the points (C, Q, 2) of cells of ``region`` (C,), by central differences.
+
+    Zero for a constant, or a constant in every region; a region's field is differentiated as
+    the smooth function it is inside that region.
+    """
+    if _piecewise_constant(field):
         return np.zeros((*np.shape(x), 2))
-    gx, gy = _numerical_gradient(field, x, y, step)
+    gx, gy = _numerical_gradient(field, x, y, step, region)
     return np.stack([gx, gy], axis=-1)
+
+
+def _piecewise_constant(field: Field | RegionField) -> bool:
+    """Whether ``field`` is a constant, or a constant in every region."""
+    if isinstance(field, RegionField):
+        return all(piece.constant is not None for piece in field.pieces)
+    return field.constant is not None
 
 
 #: A displacement component held by a Dirichlet condition (no traction residual there).
@@ -226,18 +243,19 @@ def _poisson(solution: PoissonSolution) -> ErrorEstimate:
             cells = group.cells[part]
             index = group.index[part]
             x, y, w = cell_rule(mesh.points, cells, order)
-            value = f(x, y)
-            kappa_at = kappa(x, y)
+            region = mesh.region[index]
+            value = f.at(x, y, region)
+            kappa_at = kappa.at(x, y, region)
             kappa_mean[part] = np.sum(w * kappa_at, axis=1) / proj.area[part]
             g = gradient[index]
             if not c.is_zero:
                 dx = x - proj.centre[part, 0:1]
                 dy = y - proj.centre[part, 1:2]
                 uh = local[part].mean(axis=1)[:, None] + dx * g[:, None, 0] + dy * g[:, None, 1]
-                value = value - c(x, y) * uh
-            if kappa.constant is None:
+                value = value - c.at(x, y, region) * uh
+            if not _piecewise_constant(kappa):
                 step = GRADIENT_STEP * diameter[index][:, None]
-                grad_kappa = _gradient_of(kappa, x, y, step)
+                grad_kappa = _gradient_of(kappa, x, y, step, region)
                 value = value + np.einsum("cqd,cd->cq", grad_kappa, g)
             weight = (diameter[index] / np.pi) ** 2
             residual[index] = weight * np.sum(w * value * value, axis=1)
@@ -249,16 +267,21 @@ def _poisson(solution: PoissonSolution) -> ErrorEstimate:
         )
     edges = _Edges(mesh)
     jump = np.zeros(mesh.n_cells)
-    # interior edges: the jump of the normal flux, half to each side
+    # interior edges: the jump of the normal flux, half to each side (each side with its own
+    # region's κ: across an interface of a composite domain κ jumps, the flux does not)
     normal, length = edges.normals(mesh.points, edges.inner)
     x, y, w, _ = edge_rule(mesh.points, edges.inner, order)
-    difference = gradient[edges.inner_cells[:, 0]] - gradient[edges.inner_cells[:, 1]]
-    flux = kappa(x, y) * np.einsum("ed,ed->e", difference, normal)[:, None]
+    flux = np.zeros(x.shape)
+    for side, sign in ((0, 1.0), (1, -1.0)):
+        cell = edges.inner_cells[:, side]
+        normal_gradient = np.einsum("ed,ed->e", gradient[cell], normal)[:, None]
+        flux += sign * kappa.at(x, y, mesh.region[cell]) * normal_gradient
     edges.share(jump, length * np.sum(w * flux * flux, axis=1))
     # boundary edges on Neumann and natural patches: the flux residual
     for fields, cell, normal, length, x, y, w in edges.flux_patches(data, mesh.patch_names, order):
         given = 0.0 if fields[0] is None else fields[0](x, y)
-        miss = given - kappa(x, y) * np.einsum("ed,ed->e", gradient[cell], normal)[:, None]
+        kappa_at = kappa.at(x, y, mesh.region[cell])
+        miss = given - kappa_at * np.einsum("ed,ed->e", gradient[cell], normal)[:, None]
         np.add.at(jump, cell, length * np.sum(w * miss * miss, axis=1))
     total = residual + jump + stab
     return ErrorEstimate(total, residual, jump, stab)
@@ -281,12 +304,14 @@ def _elasticity(solution: ElasticitySolution) -> ErrorEstimate:
             for part in cell_chunks(group.n_cells, points_per_cell(group.size, order)):
                 index = group.index[part]
                 x, y, w = cell_rule(mesh.points, group.cells[part], order)
-                square = sum(f(x, y) ** 2 for f in data.load if not f.is_zero)
+                region = mesh.region[index]
+                square = sum(f.at(x, y, region) ** 2 for f in data.load if not f.is_zero)
                 weight = (diameter[index] / np.pi) ** 2
                 residual[index] = weight * np.sum(w * square, axis=1)
         strain_map = _strain_matrix(proj.gradient)
+        cell_material = material[mesh.region[group.index]] if material.ndim == 3 else material
         consistency = proj.area[:, None, None] * np.matmul(
-            strain_map.transpose(0, 2, 1), np.matmul(material, strain_map)
+            strain_map.transpose(0, 2, 1), np.matmul(cell_material, strain_map)
         )
         m, n = proj.area.shape[0], proj.size
         rest = np.einsum("mij,ab->miajb", proj.residual(), np.eye(2)).reshape(m, 2 * n, 2 * n)

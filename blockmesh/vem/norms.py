@@ -12,6 +12,10 @@ On triangles these are the exact errors of the P1 finite element solution. The e
 used when given; otherwise it is computed from the exact solution by fourth-order central
 differences with a step of 1e-3 times the cell's diameter (accurate to about 1e-9 relative on
 smooth functions, and the stencil stays inside the cell, so a corner singularity is respected).
+On a composite domain the exact solution may be given per region (a mapping region ->
+expression, :func:`blockmesh.vem.fields.region_field`): each cell is measured against its own
+region's piece, whose smooth continuation is also what the cell's sliver past a curved interface
+sees.
 
 Examples
 --------
@@ -28,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from blockmesh.geometry.polygons import polygon_diameter
-from blockmesh.vem.fields import Field
+from blockmesh.vem.fields import Field, RegionField
 from blockmesh.vem.polygons import PolygonMesh
 from blockmesh.vem.projections import Projections
 from blockmesh.vem.rules import cell_chunks, cell_rule, points_per_cell
@@ -38,7 +42,9 @@ __all__ = ["ErrorNorms", "error_norms"]
 #: Finite-difference step of the numerical gradient, relative to the cell diameter.
 GRADIENT_STEP = 1e-3
 
-EnergyDensity = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+#: ``energy(x, y, e, de, region)``: the energy density of an error at the points of some cells,
+#: ``region`` (C,) the cells' regions.
+EnergyDensity = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -91,15 +97,20 @@ def _ratio(a: float, b: float) -> float:
     return a / b if b > 0 else (0.0 if a == 0 else float("inf"))
 
 
-def _numerical_gradient(field: Field, x: np.ndarray, y: np.ndarray, step: np.ndarray):
+def _numerical_gradient(
+    field: Field | RegionField, x: np.ndarray, y: np.ndarray, step: np.ndarray, region: np.ndarray
+):
     """∂f/∂x and ∂f/∂y by fourth-order central differences, step (C, 1) per cell."""
+
+    def f(px: np.ndarray, py: np.ndarray) -> np.ndarray:
+        return field.at(px, py, region)
 
     def derivative(dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
         return (
-            -field(x + 2 * dx, y + 2 * dy)
-            + 8 * field(x + dx, y + dy)
-            - 8 * field(x - dx, y - dy)
-            + field(x - 2 * dx, y - 2 * dy)
+            -f(x + 2 * dx, y + 2 * dy)
+            + 8 * f(x + dx, y + dy)
+            - 8 * f(x - dx, y - dy)
+            + f(x - 2 * dx, y - 2 * dy)
         ) / (12 * step)
 
     zero = np.zeros_like(step)
@@ -110,21 +121,25 @@ def error_norms(
     mesh: PolygonMesh,
     projections: Sequence[Projections],
     nodal: np.ndarray,
-    exact: Sequence[Field],
-    gradient: Sequence[tuple[Field, Field]] | None,
+    exact: Sequence[Field | RegionField],
+    gradient: Sequence[tuple[Field | RegionField, Field | RegionField]] | None,
     energy_density: EnergyDensity,
     order: int,
 ) -> ErrorNorms:
     """The norms of ``u - Π u_h`` for nodal values ``nodal`` (N, c) and an exact ``u`` (c fields).
 
     ``energy_density(x, y, e, de)`` gives the energy density of an error with values ``e``
-    (C, Q, c) and gradients ``de`` (C, Q, c, 2) at the points ``x, y`` (C, Q).
+    (C, Q, c) and gradients ``de`` (C, Q, c, 2) at the points ``x, y`` (C, Q) of cells of the
+    regions ``region`` (C,).
     """
     sums = np.zeros(6)  # l2, h1, energy of the error; then of u
+    cell_region = mesh.region
     for group, proj in zip(mesh.groups, projections, strict=True):
         per_cell = points_per_cell(group.size, order)
+        group_region = cell_region[group.index]
         for part in cell_chunks(group.n_cells, per_cell):
             cells = group.cells[part]
+            region = group_region[part]
             x, y, w = cell_rule(mesh.points, cells, order)
             local = nodal[cells]  # (C, n, c)
             grad_uh = np.einsum("cdn,cnk->ckd", proj.gradient[part], local)  # (C, c, 2)
@@ -135,25 +150,30 @@ def error_norms(
                 + dx[..., None] * grad_uh[:, None, :, 0]
                 + dy[..., None] * grad_uh[:, None, :, 1]
             )  # Π∇u_h at the points, (C, Q, c)
-            u = np.stack([field(x, y) for field in exact], axis=-1)  # (C, Q, c)
+            u = np.stack([field.at(x, y, region) for field in exact], axis=-1)  # (C, Q, c)
             if gradient is None:
                 step = GRADIENT_STEP * polygon_diameter(mesh.points[cells])[:, None]
                 du = np.stack(
-                    [np.stack(_numerical_gradient(f, x, y, step), -1) for f in exact], axis=-2
+                    [np.stack(_numerical_gradient(f, x, y, step, region), -1) for f in exact],
+                    axis=-2,
                 )
             else:
                 du = np.stack(
-                    [np.stack([gx(x, y), gy(x, y)], axis=-1) for gx, gy in gradient], axis=-2
+                    [
+                        np.stack([gx.at(x, y, region), gy.at(x, y, region)], axis=-1)
+                        for gx, gy in gradient
+                    ],
+                    axis=-2,
                 )  # (C, Q, c, 2)
             e = u - uh
             de = du - grad_uh[:, None, :, :]
             sums += [
                 np.sum(w * np.sum(e * e, axis=-1)),
                 np.sum(w * np.sum(de * de, axis=(-2, -1))),
-                np.sum(w * energy_density(x, y, e, de)),
+                np.sum(w * energy_density(x, y, e, de, region)),
                 np.sum(w * np.sum(u * u, axis=-1)),
                 np.sum(w * np.sum(du * du, axis=(-2, -1))),
-                np.sum(w * energy_density(x, y, u, du)),
+                np.sum(w * energy_density(x, y, u, du, region)),
             ]
     roots = np.sqrt(np.maximum(sums, 0.0))
     return ErrorNorms(*(float(v) for v in roots))

@@ -14,7 +14,15 @@ array               where       what
 ``stress``          cells       (σ_xx, σ_yy, σ_xy)
 ``von_mises``       cells       the von Mises stress
 ``error``           points      ``u_h - u`` at the nodes, when an exact solution is given
+``region``          cells       index into the region names
+``patch``           points      the patch of a boundary node (a corner: the first patch in
+                                the mesh's order), -1 inside
+``interface``       points      the interface of a node on one, -1 elsewhere (only when the
+                                mesh has interfaces)
 ==================  ==========  ===================================================
+
+The VTU also holds the names as field data, as the mesh files do: ``region:NAME``,
+``patch:NAME`` and ``interface:NAME``, whose value is the index the arrays use.
 
 Examples
 --------
@@ -26,7 +34,7 @@ Examples
 >>> path = write_solution(sol, pathlib.Path(tempfile.mkdtemp()) / "u.vtu")
 >>> back = meshio.read(path)
 >>> sorted(back.point_data), sorted(back.cell_data)
-(['u'], ['gradient'])
+(['patch', 'u'], ['gradient', 'region'])
 """
 
 from __future__ import annotations
@@ -38,8 +46,10 @@ from typing import Any
 
 import numpy as np
 
-from blockmesh._system.atomic import atomic_file, atomic_with_data
+from blockmesh._system.atomic import atomic_file, atomic_with_data, scratch_file
 from blockmesh.errors import ExportError
+from blockmesh.io.common import name_lookup
+from blockmesh.io.vtu.format import insert_field_data
 from blockmesh.vem.elasticity import ElasticitySolution
 from blockmesh.vem.poisson import PoissonSolution
 from blockmesh.vem.polygons import PolygonMesh
@@ -74,6 +84,8 @@ def solution_fields(
             f"write_solution takes a PoissonSolution or ElasticitySolution, not "
             f"{type(solution).__name__}"
         )
+    cell["region"] = np.asarray(solution.mesh.region, dtype=np.int64)
+    point.update(_node_labels(solution.mesh))
     for name, values in (extra_point_data or {}).items():
         array = np.asarray(values, dtype=np.float64)
         if array.shape[0] != solution.mesh.n_points:
@@ -83,6 +95,33 @@ def solution_fields(
             )
         point[name] = array
     return point, cell
+
+
+def _node_labels(mesh: PolygonMesh) -> dict[str, np.ndarray]:
+    """``patch`` (and ``interface``) of every node, -1 where none applies."""
+    out = {}
+    patch = np.full(mesh.n_points, -1, dtype=np.int64)
+    for k in range(len(mesh.patch_names) - 1, -1, -1):  # the first patch wins at a corner
+        patch[mesh.boundary_edges[mesh.boundary_patch == k]] = k
+    out["patch"] = patch
+    if mesh.interface_names:
+        interface = np.full(mesh.n_points, -1, dtype=np.int64)
+        for k in range(len(mesh.interface_names) - 1, -1, -1):
+            interface[mesh.interface_edges[mesh.interface_patch == k]] = k
+        out["interface"] = interface
+    return out
+
+
+def _names(mesh: PolygonMesh) -> dict[str, np.ndarray]:
+    """The name lookups ``KIND:NAME`` -> index of the regions, patches and interfaces."""
+    out = {}
+    for kind, names in (
+        ("region", mesh.region_names),
+        ("patch", mesh.patch_names),
+        ("interface", mesh.interface_names),
+    ):
+        out.update({k: np.array([v], dtype=np.int64) for k, v in name_lookup(kind, names).items()})
+    return out
 
 
 def write_solution(
@@ -122,8 +161,9 @@ def _write_vtu(
         point_data=point,
         cell_data=cell_data,
     )
-    with atomic_file(path) as temporary:
-        meshio.vtu.write(str(temporary), out, binary=True, compression="zlib")
+    with atomic_file(path) as final, scratch_file(path) as raw:
+        meshio.vtu.write(str(raw), out, binary=True, compression="zlib")
+        insert_field_data(raw, final, _names(mesh))
     return path
 
 

@@ -3,7 +3,8 @@
 A diffusion-reaction solution is drawn as the nodal values, interpolated linearly on a fan of
 triangles in every cell (no new nodes), with the cell edges; an elasticity solution as the
 deformed mesh (displacements magnified so that the largest is a tenth of the domain's size)
-coloured by the von Mises stress of every cell.
+coloured by the von Mises stress of every cell. The interfaces of a composite domain are drawn
+as white lines (on the deformed mesh, black).
 
 Examples
 --------
@@ -39,6 +40,21 @@ def _fan(mesh: PolygonMesh) -> np.ndarray:
         for k in range(1, group.size - 1):
             triangles.append(group.cells[:, [0, k, k + 1]])
     return np.concatenate(triangles)
+
+
+def _draw_interfaces(ax, solution: PoissonSolution | ElasticitySolution, colour: str) -> None:
+    """The interfaces of the solution's mesh (a composite domain's), where they are now."""
+    from matplotlib.collections import LineCollection
+
+    mesh = solution.mesh
+    if not mesh.interface_names:
+        return
+    points = mesh.points
+    if isinstance(solution, ElasticitySolution):
+        size = float(np.ptp(points, axis=0).max())
+        largest = float(np.hypot(*solution.displacement.T).max())
+        points = points + (0.1 * size / largest if largest > 0 else 0.0) * solution.displacement
+    ax.add_collection(LineCollection(points[mesh.interface_edges], colors=colour, linewidths=1.2))
 
 
 def _edges_width(n_cells: int) -> float:
@@ -83,6 +99,7 @@ def plot_solution(
         ax.add_collection(cells)
         fig.colorbar(cells, ax=ax, label="von Mises stress")
         heading = f"deformed x {factor:.3g}, von Mises stress"
+    _draw_interfaces(ax, solution, "w" if isinstance(solution, PoissonSolution) else "k")
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_title(title or f"{heading}: {mesh.n_cells:,} cells, {solution.info.dof:,} unknowns")

@@ -14,6 +14,13 @@ The discrete problem on every cell E:
 
 On triangles every projection is exact and the method is the P1 finite element method.
 
+On a composite domain (several regions) the source, the diffusion and the reaction may be given
+per region, as a mapping region -> value or expression (``{"fibre": 10, "matrix": 1}``; ``"*"``
+for the regions not named). Every cell lies in one region, so the interface conditions are the
+natural ones: u is continuous (the nodes on an interface are shared) and so is the normal flux
+``κ ∂u/∂n`` (weakly, as in any conforming method). An interface is not a boundary patch: a
+Dirichlet or Neumann condition on one is refused, naming it.
+
 Examples
 --------
 >>> import blockmesh
@@ -47,7 +54,7 @@ from blockmesh.vem.assembly import (
     solve_system,
 )
 from blockmesh.vem.boundary import ProblemData, boundary_conditions
-from blockmesh.vem.fields import Field, scalar_field, vector_field
+from blockmesh.vem.fields import Field, RegionField, region_field, region_vector_field
 from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.vem.projections import Projections, projections
@@ -90,8 +97,8 @@ class PoissonSolution:
     info: SolveInfo
     seconds: float
     _projections: tuple[Projections, ...]
-    _diffusion: Field
-    _reaction: Field
+    _diffusion: Field | RegionField
+    _reaction: Field | RegionField
     _order: int
     _data: ProblemData | None = None
 
@@ -113,22 +120,27 @@ class PoissonSolution:
 
         Parameters
         ----------
-        exact : number, str or callable
-            u(x, y).
+        exact : number, str or callable, or a mapping of region to one of those
+            u(x, y); per region on a composite domain (each cell against its region's piece).
         gradient : pair, optional
             ``(∂u/∂x, ∂u/∂y)`` as numbers, strings or callables (or ``"UX, UY"``). Without it the
             gradient is taken by finite differences (see :mod:`blockmesh.vem.norms`).
         order : int, optional
             Quadrature order (default: the solve's order + 1).
         """
-        u = scalar_field(exact, "exact solution")
-        grad = None if gradient is None else [vector_field(gradient, "exact gradient")]
+        names = self.mesh.region_names
+        u = region_field(exact, "exact solution", names)
+        grad = (
+            None if gradient is None else [region_vector_field(gradient, "exact gradient", names)]
+        )
         kappa, c = self._diffusion, self._reaction
 
-        def energy(x: np.ndarray, y: np.ndarray, e: np.ndarray, de: np.ndarray) -> np.ndarray:
-            density = kappa(x, y) * np.sum(de[..., 0, :] ** 2, axis=-1)
+        def energy(
+            x: np.ndarray, y: np.ndarray, e: np.ndarray, de: np.ndarray, region: np.ndarray
+        ) -> np.ndarray:
+            density = kappa.at(x, y, region) * np.sum(de[..., 0, :] ** 2, axis=-1)
             if not c.is_zero:
-                density = density + c(x, y) * e[..., 0] ** 2
+                density = density + c.at(x, y, region) * e[..., 0] ** 2
             return density
 
         rule_order = check_order(self._order + 1 if order is None else order)
@@ -164,10 +176,11 @@ def solve_poisson(
     ----------
     mesh : Mesh or PolygonMesh
         A blockmesh mesh (pentagons) or any polygon mesh.
-    source : number, str or callable
+    source : number, str or callable, or a mapping of region to one of those
         f(x, y).
-    diffusion, reaction : number, str or callable
-        κ(x, y) > 0 and c(x, y) >= 0.
+    diffusion, reaction : number, str or callable, or a mapping of region to one of those
+        κ(x, y) > 0 and c(x, y) >= 0; per region on a composite domain
+        (``{"fibre": 10, "matrix": 1}``, ``"*"`` for the regions not named).
     dirichlet : mapping of patch name to value, optional
         ``u`` on those patches (number, expression or callable of x, y).
     neumann : mapping of patch name to flux, optional
@@ -193,9 +206,10 @@ def solve_poisson(
     Raises
     ------
     UnknownNameError
-        For a patch the mesh does not have.
+        For a patch or a region the mesh does not have.
     SolverError
-        For a patch given both conditions, a problem without anything fixing the constant (no
+        For a patch given both conditions, a condition on an interface, a region without a
+        value, a problem without anything fixing the constant (no
         Dirichlet patch, no reaction, no constraint), incompatible pure Neumann data, or a failed
         solve.
     ResourceError
@@ -209,15 +223,20 @@ def solve_poisson(
     scale = check_scale(stabilization_scale)
     if constraint is not None and constraint not in CONSTRAINTS:
         raise ArgumentError(f"unknown constraint {constraint!r}; choose one of: mean")
-    f = scalar_field(source, "source")
-    kappa = scalar_field(diffusion, "diffusion")
-    c = scalar_field(reaction, "reaction")
+    names = pm.region_names
+    f = region_field(source, "source", names)
+    kappa = region_field(diffusion, "diffusion", names)
+    c = region_field(reaction, "reaction", names)
     bc = boundary_conditions(pm, dirichlet, neumann, components=1)
+    cell_region = pm.region
 
     dofs, stiffness, load, means, projs = [], [], [], [], []
     for group in pm.groups:
         proj = projections(pm.points, group.cells)
-        k, m, b, mean = _cell_matrices(pm, group.cells, proj, f, kappa, c, order, recipe, scale)
+        region = cell_region[group.index]
+        k, m, b, mean = _cell_matrices(
+            pm, group.cells, region, proj, f, kappa, c, order, recipe, scale
+        )
         dofs.append(group.cells)
         stiffness.append(k if m is None else k + m)
         load.append(b)
@@ -263,10 +282,11 @@ def solve_poisson(
 def _cell_matrices(
     pm: PolygonMesh,
     cells: np.ndarray,
+    region: np.ndarray,
     proj: Projections,
-    f: Field,
-    kappa: Field,
-    c: Field,
+    f: Field | RegionField,
+    kappa: Field | RegionField,
+    c: Field | RegionField,
     order: int,
     recipe: str,
     scale: float,
@@ -284,12 +304,12 @@ def _cell_matrices(
         monomials = proj.monomials(x, y, part)  # (C, Q, 3)
         local = coefficients[part]
         basis_mean[part] = np.einsum("ca,can->cn", np.einsum("cq,cqa->ca", w, monomials), local)
-        kappa_mean[part] = np.sum(w * kappa(x, y), axis=1) / proj.area[part]
+        kappa_mean[part] = np.sum(w * kappa.at(x, y, region[part]), axis=1) / proj.area[part]
         if not f.is_zero:
-            moments = np.einsum("cq,cqa->ca", w * f(x, y), monomials)
+            moments = np.einsum("cq,cqa->ca", w * f.at(x, y, region[part]), monomials)
             load[part] = np.einsum("ca,can->cn", moments, local)
         if mass is not None:
-            cw = w * c(x, y)
+            cw = w * c.at(x, y, region[part])
             second = np.matmul(monomials.transpose(0, 2, 1), cw[:, :, None] * monomials)
             mass[part] = np.matmul(local.transpose(0, 2, 1), np.matmul(second, local))
             reaction_mean[part] = np.sum(cw, axis=1) / proj.area[part]
@@ -317,7 +337,7 @@ def _constraints(
     pm: PolygonMesh,
     matrix,
     fixed: np.ndarray,
-    c: Field,
+    c: Field | RegionField,
     constraint: str | None,
     rhs: np.ndarray,
     dofs: list[np.ndarray],

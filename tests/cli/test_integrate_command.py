@@ -136,5 +136,18 @@ def test_a_mesh_file_is_integrated_over_at_its_own_level(tmp_path, capsys):
     _, reference, _ = run_cli(capsys, "integrate", "l-shape", "-f", "x*y", "--json")
     assert payload["value"] == json.loads(reference)["value"]
     assert payload["exact_error"] < 1e-14
-    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "x*y", "--level", "3", "--json")
-    assert code == 0 and json.loads(out)["cells"] == 24 * 216
+    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "x*y", "--level", "1", "--json")
+    assert code == 0 and json.loads(out)["cells"] == 24 * 216  # one level added, as mesh counts
+    assert json.loads(out)["level"] == 3
+
+
+def test_a_locally_refined_mesh_file_takes_no_more_levels(tmp_path, capsys):
+    import blockmesh
+
+    domain = blockmesh.load_domain("l-shape")
+    path = tmp_path / "local.npz"
+    blockmesh.write(blockmesh.refine(domain.mesh(1), cells=[0, 1]), path)
+    code, out, _ = run_cli(capsys, "integrate", str(path), "-f", "1", "--json")
+    assert code == 0 and json.loads(out)["value"] == 3.0
+    code, _, err = run_cli(capsys, "integrate", str(path), "-f", "1", "--level", "1")
+    assert code == 2 and "--level" in err and "polygon" in err

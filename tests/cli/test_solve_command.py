@@ -31,7 +31,9 @@ def test_readme_poisson_example_writes_vtu_point_data(capsys, tmp_path):
     assert set(report) >= {"seconds", "cells", "nodes", "solver", "residual", "output"}
     back = meshio.read(out)
     assert back.points.shape[0] == report["nodes"]
-    assert set(back.point_data) == {"u", "error"} and set(back.cell_data) == {"gradient"}
+    # the solution, the error, and (issue 23) the region of every cell and patch of every node
+    assert set(back.point_data) == {"u", "error", "patch"}
+    assert set(back.cell_data) == {"gradient", "region"}
     assert np.abs(back.point_data["u"]).max() == pytest.approx(report["u_max"])
     assert np.abs(back.point_data["error"]).max() < 2e-3
 
@@ -57,7 +59,13 @@ def test_elasticity_writes_displacements_and_stresses(capsys, tmp_path):
     assert picture.stat().st_size > 0
     tree = ET.parse(out)
     names = {a.get("Name"): a.get("Center") for a in tree.iter("Attribute")}
-    assert names == {"displacement": "Node", "stress": "Cell", "von_mises": "Cell"}
+    assert names == {
+        "displacement": "Node",
+        "stress": "Cell",
+        "von_mises": "Cell",
+        "region": "Cell",  # issue 23: the region of every cell, the patch of every node
+        "patch": "Node",
+    }
     data = {item.text.split(":")[0] for item in tree.iter("DataItem")}
     assert len(data) == 1 and sorted(p.name for p in tmp_path.glob("*.h5")) == sorted(data)
     with h5py.File(tmp_path / data.pop()) as f:

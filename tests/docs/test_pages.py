@@ -60,7 +60,7 @@ def test_the_pages_are_the_site() -> None:
         "index.md",
         "getting-started.md",
         "domains.md",
-        "composite-domains.md",
+        "composite.md",
         "curves.md",
         "decomposition.md",
         "refinement.md",

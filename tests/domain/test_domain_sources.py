@@ -169,11 +169,12 @@ def test_from_shapely():
     domain = Domain.from_shapely(ring, patches={"inner": ["hole 0"]}, name="ring")
     assert domain.name == "ring" and domain.patch_names == ("inner", "boundary")
     assert_blocks_tile(domain, ring)
-    with pytest.raises(DomainError, match="a MultiPolygon of 2 parts is not one domain"):
-        Domain.from_shapely(
-            shapely.MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 1)])
-        )
-    with pytest.raises(ArgumentTypeError, match="takes a shapely Polygon, got LineString"):
+    # A MultiPolygon is a composite domain (issue 23): its pieces are regions, here apart.
+    two = Domain.from_shapely(
+        shapely.MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 1)])
+    )
+    assert two.region_names == ("part0", "part1") and two.components == 2
+    with pytest.raises(ArgumentTypeError, match="takes a shapely Polygon or MultiPolygon, got Li"):
         Domain.from_shapely(shapely.LineString([(0, 0), (1, 1)]))
 
 
@@ -211,14 +212,15 @@ def test_geojson_file_with_named_patches(tmp_path):
     assert np.all(south[:, :, 1] == 50.0)
     polygon = shapely.Polygon([p[:2] for p in shell], [lake])
     assert domain.area == pytest.approx(polygon.area, rel=1e-12)
-    # A bare geometry works too; a collection of two features does not.
+    # A bare geometry works too; a collection of two features is a composite domain (issue
+    # 23), here of two equal parts: the later one covers the earlier entirely.
     bare = tmp_path / "bare.json"
     bare.write_text(json.dumps({"type": "Polygon", "coordinates": [shell]}))
     assert blockmesh.load_domain(bare).name == "bare"
     two = _geojson([shell])
     two["features"] *= 2
     (tmp_path / "two.geojson").write_text(json.dumps(two))
-    with pytest.raises(DomainFormatError, match="the FeatureCollection has 2 features"):
+    with pytest.raises(DomainError, match=r"part 0 \('part0'\) is covered entirely by the later"):
         blockmesh.load_domain(tmp_path / "two.geojson")
     (tmp_path / "bad.geojson").write_text("{")
     with pytest.raises(DomainFormatError, match="bad.geojson: not JSON"):

@@ -2,24 +2,27 @@
 
 Variables (every index and id 1-based, as MATLAB counts):
 
-================= ============================================================================
-``Node``          N x 2 double, the node coordinates
-``Element``       M x 1 cell array; ``Element{k}`` is a 1 x 5 double row of the node ids of cell
-                  k, counter-clockwise (what PolyMesher and VEM codes take)
-``BoundaryNodes`` struct, one field per patch: the sorted node ids on that patch (column)
-``BoundaryEdges`` struct, one field per patch: E x 2 node ids, domain on the left of each edge
-``BlockId``       M x 1, the block of each cell (block id + 1)
-``Region``        M x 1, index into ``RegionNames``
-``Parent``        M x 1, the cell's parent at the previous level (0 at level 0)
-``PatchNames``    1 x P cell array of char; ``RegionNames`` likewise
-``Level``         the refinement level; ``Name`` the mesh name
-``CurvedEdges``   (a mesh with curved edges only) how many: the file keeps the nodes on the
-                  curves but not the curves, and :func:`read_mat` warns that refining the mesh
-                  read gives straight edges
-``CellLevel``     M x 1, per cell its refinement level (polygon meshes only)
-``Kind``          ``'polygons'`` for a polygon mesh (then ``Element{k}`` has as many ids as cell
-                  k has vertices, hanging nodes included)
-================= ============================================================================
+================== ============================================================================
+``Node``           N x 2 double, the node coordinates
+``Element``        M x 1 cell array; ``Element{k}`` is a 1 x 5 double row of the node ids of cell
+                   k, counter-clockwise (what PolyMesher and VEM codes take)
+``BoundaryNodes``  struct, one field per patch: the sorted node ids on that patch (column)
+``BoundaryEdges``  struct, one field per patch: E x 2 node ids, domain on the left of each edge
+``BlockId``        M x 1, the block of each cell (block id + 1)
+``Region``         M x 1, index into ``RegionNames``
+``Parent``         M x 1, the cell's parent at the previous level (0 at level 0)
+``PatchNames``     1 x P cell array of char; ``RegionNames`` likewise
+``InterfaceEdges`` struct, one field per interface of a composite domain: E x 2 node ids, the
+                   interface's first region on the left of each edge (only with interfaces)
+``InterfaceNames`` 1 x I cell array of char (only with interfaces)
+``Level``          the refinement level; ``Name`` the mesh name
+``CurvedEdges``    (a mesh with curved edges only) how many: the file keeps the nodes on the
+                   curves but not the curves, and :func:`read_mat` warns that refining the mesh
+                   read gives straight edges
+``CellLevel``      M x 1, per cell its refinement level (polygon meshes only)
+``Kind``           ``'polygons'`` for a polygon mesh (then ``Element{k}`` has as many ids as cell
+                   k has vertices, hanging nodes included)
+================== ============================================================================
 
 Struct field names are the patch names made valid MATLAB identifiers (other characters become
 ``_``, a leading non-letter gets ``p_``); fields are in ``PatchNames`` order, which is how
@@ -161,6 +164,14 @@ def write_mat(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none"
         "Level": float(mesh.level),
         "Name": mesh.name,
     }
+    if mesh.interface_names:
+        variables["InterfaceEdges"] = {
+            field: (mesh.interface_edges[mesh.interface_patch == k] + 1.0).reshape(-1, 2)
+            for k, field in enumerate(MATLAB_NAME.unique(mesh.interface_names))
+        }
+        variables["InterfaceNames"] = np.array(list(mesh.interface_names), dtype=object).reshape(
+            1, -1
+        )
     if mesh.curves:
         variables["CurvedEdges"] = float(len(mesh.curves))
     if isinstance(mesh, PolygonMesh):
@@ -182,8 +193,8 @@ def write_mat(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none"
 
 #: The variables :func:`write_mat` writes.
 _VARIABLES = ("Node", "Element", "BoundaryNodes", "BoundaryEdges", "BlockId", "Region", "Parent",
-              "PatchNames", "RegionNames", "Level", "Name", "CurvedEdges", "CellLevel",
-              "Kind")  # fmt: skip
+              "PatchNames", "RegionNames", "Level", "Name", "InterfaceEdges",
+              "InterfaceNames", "CurvedEdges", "CellLevel", "Kind")  # fmt: skip
 
 
 def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> Iterator[bytes]:
@@ -430,6 +441,7 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
         edges = _whole(np.concatenate(parts) if parts else np.empty((0, 2)), "BoundaryEdges", where)
         edges -= 1
         patch = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
+    interfaces = _interfaces(data, where)
     level = np.asarray(data["Level"]) if "Level" in data else 0
     name = _strings(data["Name"])[0] if "Name" in data and data["Name"].size else ""
     if polygons:
@@ -462,10 +474,37 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
         patch_names=patch_names,
         level=level,
         name=name,
+        **interfaces,
         dropped_curves=int(np.asarray(data["CurvedEdges"]).ravel()[0])
         if "CurvedEdges" in data
         else 0,
     )
+
+
+def _interfaces(data: dict, where: str) -> dict[str, Any]:
+    """The interface arguments of the Mesh from ``InterfaceEdges`` and ``InterfaceNames``."""
+    if "InterfaceEdges" not in data or "InterfaceNames" not in data:
+        return {}
+    names = _strings(data["InterfaceNames"])
+    struct = data["InterfaceEdges"]
+    fields = struct.dtype.names or ()
+    if len(fields) != len(names):
+        raise ExportError(
+            f"{where}: InterfaceEdges has {len(fields)} fields for {len(names)} InterfaceNames"
+        )
+    if fields and struct.size != 1:
+        raise ExportError(f"{where}: InterfaceEdges is not one struct ({struct.shape})")
+    parts = [
+        _rows(_numbers(struct.ravel()[0][f], f"InterfaceEdges.{f}", where), 2, f, where)
+        for f in fields
+    ]
+    edges = _whole(np.concatenate(parts) if parts else np.empty((0, 2)), "InterfaceEdges", where)
+    edges -= 1
+    return {
+        "interface_edges": edges,
+        "interface_patch": np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts]),
+        "interface_names": names,
+    }
 
 
 FORMAT = Format(

@@ -5,16 +5,19 @@ default), ``tri3`` or ``quad5``. The file (written by :mod:`blockmesh.io.msh.wri
 :mod:`blockmesh.io.msh.reader`) has these sections:
 
 ``$PhysicalNames``
-    one physical group per patch (dimension 1, tag = patch index + 1) and per region
-    (dimension 2, tag = region index + 1), named after them (a double quote or line break, which
-    Gmsh names cannot hold, becomes ``_``; the real names are in ``$BlockMesh``).
+    one physical group per patch (dimension 1, tag = patch index + 1), then per interface of a
+    composite domain (dimension 1, tags after the patches) and per region (dimension 2, tag =
+    region index + 1), named after them (a double quote or line break, which Gmsh names cannot
+    hold, becomes ``_``; the real names are in ``$BlockMesh``).
 ``$Entities``
-    one curve per patch (tag = patch index + 1) and one surface per (block, region) pair of the
+    one curve per patch and per interface (tag = its physical tag) and one surface per (block,
+    region) pair of the
     cells (tag = block id + 1 whenever each block lies in one region, as blocks do), each carrying
     its physical group.
 ``$Nodes``, ``$Elements``
-    the mesh's nodes (tags 1..N) then the split's new ones; the boundary lines (halved for
-    ``quad5``, so the line mesh conforms), then the split elements, block by block.
+    the mesh's nodes (tags 1..N) then the split's new ones; the boundary lines, then the
+    interface lines (halved for ``quad5``, so the line mesh conforms), then the split elements,
+    block by block.
 ``$ElementData`` ``"pentagon"`` and ``"parent"``
     for every element: the 0-based index of the pentagon (the mesh cell) it comes from, and that
     pentagon's parent one refinement level up (``Mesh.parent``); -1 on the boundary lines. Gmsh

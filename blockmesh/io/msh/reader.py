@@ -30,6 +30,7 @@ import numpy as np
 
 from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
+from blockmesh.geometry.topology import boundary_of_cells, edge_keys
 from blockmesh.io.common import decode_metadata, mesh_from_arrays
 from blockmesh.io.msh.writer import ELEMENT_NODES
 from blockmesh.io.pentagons import join_lines, merge_elements, merge_polygons
@@ -482,7 +483,11 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     f.coords = None  # freed before the Mesh is built
 
     region_of_tag, region_names = _groups(f, 2, meta.get("region_names"))
-    patch_of_tag, patch_names = _groups(f, 1, meta.get("patch_names"))
+    known = meta.get("patch_names")
+    inner = meta.get("interface_names")
+    if isinstance(known, list) and isinstance(inner, list):
+        known = known + inner
+    patch_of_tag, patch_names = _groups(f, 1, known)
     # each pentagon's first element, as a position in the file
     element = merged.first_element if order is None else order[merged.first_element]
     entity_of_cell = f.surface.entity(element)
@@ -499,12 +504,61 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
         "parent": parent,
         "region": region,
         "region_names": region_names,
-        "boundary_edges": lines,
-        "boundary_patch": patch,
-        "patch_names": patch_names,
+        **_lines_and_interfaces(lines, patch, patch_names, merged.cells, meta),
         "level": meta.get("level", 0),
         "name": meta.get("name", ""),
         "dropped_curves": meta.get("curved_edges", 0),
+    }
+
+
+def _lines_and_interfaces(
+    lines: np.ndarray,
+    group: np.ndarray,
+    names: list[str],
+    cells: np.ndarray,
+    meta: dict[str, Any],
+) -> dict[str, Any]:
+    """Boundary edges and patches, and interface edges and interfaces, from the line groups.
+
+    The files blockmesh writes list the interfaces after the patches (``$BlockMesh`` names
+    both); in other files a physical line whose edges are all inside the mesh (each shared by
+    two cells) is an interface.
+    """
+    inner_names = meta.get("interface_names")
+    if isinstance(inner_names, list) and isinstance(meta.get("patch_names"), list):
+        n_patches = len(meta["patch_names"])
+        inner = group >= n_patches
+        return {
+            "boundary_edges": lines[~inner],
+            "boundary_patch": group[~inner],
+            "patch_names": names[:n_patches],
+            "interface_edges": lines[inner],
+            "interface_patch": group[inner] - n_patches,
+            "interface_names": names[n_patches:],
+        }
+    n = int(max(cells.max(initial=-1), lines.max(initial=-1))) + 1
+    outer = boundary_of_cells(cells, n)
+    on_boundary = np.isin(
+        edge_keys(lines[:, 0], lines[:, 1], n), edge_keys(outer[:, 0], outer[:, 1], n)
+    )
+    groups = np.arange(len(names))
+    interior = np.array(
+        [bool(np.any(group == g)) and not np.any(on_boundary[group == g]) for g in groups],
+        dtype=bool,
+    ).reshape(-1)
+    if not interior.any():
+        return {"boundary_edges": lines, "boundary_patch": group, "patch_names": names}
+    renumber = np.empty(len(names), dtype=np.int64)
+    renumber[~interior] = np.arange(int(np.count_nonzero(~interior)))
+    renumber[interior] = np.arange(int(np.count_nonzero(interior)))
+    inner = interior[group]
+    return {
+        "boundary_edges": lines[~inner],
+        "boundary_patch": renumber[group[~inner]],
+        "patch_names": [name for name, i in zip(names, interior, strict=True) if not i],
+        "interface_edges": lines[inner],
+        "interface_patch": renumber[group[inner]],
+        "interface_names": [name for name, i in zip(names, interior, strict=True) if i],
     }
 
 

@@ -22,7 +22,7 @@ from blockmesh._system.atomic import atomic_file
 from blockmesh.io.common import encode_metadata
 from blockmesh.io.names import GMSH_NAME
 from blockmesh.io.polygons import POLYGONS
-from blockmesh.io.split import check_split, split_boundary, split_cells
+from blockmesh.io.split import check_split, split_cells, split_edges
 from blockmesh.io.text import write_rows
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -68,7 +68,15 @@ def write_msh(mesh: Mesh | PolygonMesh, path: Path, *, split: str = "tri5") -> P
     """
     check_split(split)
     sc = split_cells(mesh, split)
-    sb = split_boundary(mesh, split)
+    # The lines: boundary edges (a group per patch), then interface edges (a group each after).
+    n_patches = len(mesh.patch_names)
+    sb = split_edges(
+        mesh,
+        split,
+        np.concatenate([mesh.boundary_edges, mesh.interface_edges]),
+        np.concatenate([mesh.boundary_patch, mesh.interface_patch + n_patches]),
+    )
+    n_curves = n_patches + len(mesh.interface_names)
     per = np.bincount(sc.parent, minlength=mesh.n_cells)  # elements of each cell
     first_of = np.concatenate([[0], np.cumsum(per)])
     etype = TRIANGLE if sc.cells.shape[1] == 3 else QUADRANGLE
@@ -81,7 +89,6 @@ def write_msh(mesh: Mesh | PolygonMesh, path: Path, *, split: str = "tri5") -> P
         entity_tag = entity_block + 1  # the usual case: one surface per block
     else:
         entity_tag = np.arange(1, pairs.size + 1)
-    n_patches = len(mesh.patch_names)
 
     cell_order = np.argsort(cell_entity, kind="stable")
     counts = per[cell_order]
@@ -95,7 +102,7 @@ def write_msh(mesh: Mesh | PolygonMesh, path: Path, *, split: str = "tri5") -> P
     n_lines, n_elems = lines.shape[0], elements.shape[0]
 
     surf_box = _bbox(sc.points[sc.cells], cell_entity[sc.parent], pairs.size)
-    curve_box = _bbox(sc.points[lines], line_patch, n_patches)
+    curve_box = _bbox(sc.points[lines], line_patch, n_curves)
     extra = {"cells": POLYGONS} if isinstance(mesh, PolygonMesh) else {}
     meta = encode_metadata(
         mesh,
@@ -110,11 +117,12 @@ def write_msh(mesh: Mesh | PolygonMesh, path: Path, *, split: str = "tri5") -> P
     with atomic_file(path) as tmp, open(tmp, "wb") as f:
         w = f.write
         w(b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n")
-        names = [f'1 {k + 1} "{p}"\n' for k, p in enumerate(GMSH_NAME.unique(mesh.patch_names))]
+        curves = GMSH_NAME.unique((*mesh.patch_names, *mesh.interface_names))
+        names = [f'1 {k + 1} "{p}"\n' for k, p in enumerate(curves)]
         names += [f'2 {k + 1} "{r}"\n' for k, r in enumerate(GMSH_NAME.unique(mesh.region_names))]
         w(f"$PhysicalNames\n{len(names)}\n{''.join(names)}$EndPhysicalNames\n".encode())
-        w(f"$Entities\n0 {n_patches} {pairs.size} 0\n".encode())
-        for k in range(n_patches):
+        w(f"$Entities\n0 {n_curves} {pairs.size} 0\n".encode())
+        for k in range(n_curves):
             w(_entity_line(k + 1, curve_box[k], k + 1).encode())
         for k in range(pairs.size):
             w(_entity_line(int(entity_tag[k]), surf_box[k], int(entity_region[k]) + 1).encode())
@@ -127,11 +135,11 @@ def write_msh(mesh: Mesh | PolygonMesh, path: Path, *, split: str = "tri5") -> P
         write_rows(f, [sc.points[:, 0], b" ", sc.points[:, 1], b" 0\n"])
         w(b"$EndNodes\n")
 
-        line_blocks = np.flatnonzero(np.bincount(line_patch, minlength=n_patches))
+        line_blocks = np.flatnonzero(np.bincount(line_patch, minlength=n_curves))
         n_blocks = line_blocks.size + pairs.size
         total = n_lines + n_elems
         w(f"$Elements\n{n_blocks} {total} 1 {total}\n".encode())
-        _write_blocks(f, 1, lines, line_patch, np.arange(n_patches) + 1, LINE, start_tag=1)
+        _write_blocks(f, 1, lines, line_patch, np.arange(n_curves) + 1, LINE, start_tag=1)
         _write_blocks(f, 2, elements, element_entity, entity_tag, etype, start_tag=n_lines + 1)
         w(b"$EndElements\n")
 

@@ -2,7 +2,8 @@
 
 The archive holds ``points, cells, block_id, parent, boundary_edges, boundary_patch, region`` as
 they are, ``patch_names`` and ``region_names`` as unicode arrays, ``level``, ``name`` and
-``format_version``, and for a mesh with curved edges the arrays of
+``format_version``, for a composite domain ``interface_edges``, ``interface_patch`` and
+``interface_names``, and for a mesh with curved edges the arrays of
 :data:`~blockmesh.io.common.CURVE_ARRAYS` (so that refining the mesh read back follows the
 curves); nothing needs pickling (it is read with ``allow_pickle=False``).
 ``compression="zlib"`` uses :func:`numpy.savez_compressed`; the default ``"none"`` is
@@ -70,6 +71,10 @@ def write_npz(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none"
     arrays["level"] = np.array(mesh.level, dtype=np.int64)
     arrays["name"] = np.array(mesh.name, dtype=str)
     arrays["format_version"] = np.array(_VERSION, dtype=np.int64)
+    if mesh.interface_names:
+        arrays["interface_edges"] = mesh.interface_edges
+        arrays["interface_patch"] = mesh.interface_patch
+        arrays["interface_names"] = np.array(mesh.interface_names, dtype=str)
     arrays.update(curve_arrays(mesh))
     save = np.savez_compressed if compression == "zlib" else np.savez
     with atomic_file(path) as tmp, open(tmp, "wb") as f:
@@ -138,7 +143,8 @@ def read_npz(path: Path) -> Mesh | PolygonMesh:
     where = str(path)
     keys = (
         *_ARRAYS, *_POLYGON_ARRAYS, "patch_names", "region_names", "level", "name",
-        "format_version", "kind", *CURVE_ARRAYS,
+        "format_version", "kind", "interface_edges", "interface_patch", "interface_names",
+        *CURVE_ARRAYS,
     )  # fmt: skip
     with reading(where), open_regular(path) as handle:
         size = os.fstat(handle.fileno()).st_size
@@ -191,6 +197,13 @@ def read_npz(path: Path) -> Mesh | PolygonMesh:
         boundary_edges=arrays["boundary_edges"],
         boundary_patch=arrays["boundary_patch"],
         patch_names=_text(arrays["patch_names"], "patch_names", where),
+        interface_edges=arrays.get("interface_edges"),
+        interface_patch=arrays.get("interface_patch"),
+        interface_names=(
+            _text(arrays["interface_names"], "interface_names", where)
+            if "interface_names" in arrays
+            else None
+        ),
         level=arrays.get("level", 0),
         name=_text(arrays.get("name", np.array("")), "name", where, scalar=True),
         curves=curves_from_arrays(arrays, where),

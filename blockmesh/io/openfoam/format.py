@@ -14,8 +14,10 @@ then neighbour), then one patch per mesh patch (type ``wall`` if its name contai
 ``patch``; faces sorted by owner), then the patch ``frontAndBack`` of type ``empty`` (the ``z = 0``
 faces, then the ``z = dz`` ones). Every face's normal points out of its owner: a side face over
 the cell edge ``a -> b`` (counter-clockwise in the owner) is ``(a, b, b+N, a+N)``; the back face of
-cell ``(v0..v4)`` is ``(v4..v0)``. The regions are written as ``cellZones``. Patch and zone names
-are made valid OpenFOAM words (:data:`blockmesh.io.names.FOAM_WORD`).
+cell ``(v0..v4)`` is ``(v4..v0)``. The regions are written as ``cellZones`` and the interfaces of
+a composite domain as ``faceZones`` (the internal faces over their edges, with a ``flipMap`` that
+points each face from the interface's first region into its second; ``checkMesh`` lists both).
+Patch and zone names are made valid OpenFOAM words (:data:`blockmesh.io.names.FOAM_WORD`).
 
 Atomic. A new case is built whole in a hidden folder and renamed in; in an existing case the
 ``polyMesh`` folder is swapped in one step (:func:`blockmesh._system.atomic.atomic_dir`), so a kill
@@ -25,8 +27,9 @@ leaves the old mesh or the new one. :func:`read_openfoam` checks that the files 
 Everything is built with whole-array operations and printed with :mod:`blockmesh.io.text`, so
 1.7 M cells take seconds (:mod:`blockmesh.io.openfoam.writer`). :func:`read_openfoam`
 (:mod:`blockmesh.io.openfoam.reader`) rebuilds the pentagons from the ``z = 0`` faces of the
-``empty`` patch, the boundary patches from the side faces, the regions from the cell zones (block
-ids and the refinement parent are not kept by this format).
+``empty`` patch, the boundary patches from the side faces, the regions from the cell zones, the
+interfaces from the face zones (block ids and the refinement parent are not kept by this
+format).
 
 Examples
 --------

@@ -294,12 +294,17 @@ def _note(header: dict[str, str]) -> dict[str, int]:
     return {k: int(v) for k, v in re.findall(r"(n\w+):\s*(\d+)", header.get("note", ""))}
 
 
-def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None:
-    if not ((poly / "cellZones").exists() or (poly / "cellZones.gz").exists()):
+def _zones(poly: Path, file: str) -> list[tuple[str, dict[str, np.ndarray]]] | None:
+    """The zones of ``poly/file`` (``cellZones``, ``faceZones``): each name and its lists.
+
+    The lists are the ``NAME List<label|bool> ...`` entries of each zone (``cellLabels``,
+    ``faceLabels``, ``flipMap``), read whether written one value a line, inline or uniform.
+    None when there is no such file.
+    """
+    if not ((poly / file).exists() or (poly / f"{file}.gz").exists()):
         return None
-    region = np.full(n_cells, -1, dtype=np.int64)
-    names: list[str] = []
-    with foam_file(poly, "cellZones") as (r, _):
+    out: list[tuple[str, dict[str, np.ndarray]]] = []
+    with foam_file(poly, file) as (r, _):
         n_zones = _list_size(r)
         if _significant(r) != b"(":
             raise ExportError(f"{r.where}: expected ( after the number of zones")
@@ -307,32 +312,58 @@ def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None
             name = _significant(r).decode(errors="replace")
             if _significant(r) != b"{":
                 raise ExportError(f"{r.where}, line {r.line_number}: expected {{ after zone {name}")
-            labels = None
+            found: dict[str, np.ndarray] = {}
             while True:
                 line = _significant(r)
                 if line.startswith(b"}"):
                     break
-                match = re.match(rb"cellLabels\s+List<label>\s*(.*)$", line)
-                if match is None:
-                    continue
-                rest = match[1].strip()
-                if _INLINE.match(rest) or _UNIFORM.match(rest):
-                    inner = _INLINE.match(rest) or _UNIFORM.match(rest)
-                    assert inner is not None
-                    values = parse_numbers(inner[2], np.int64, f"{r.where}, line {r.line_number}")
-                    labels = values if _INLINE.match(rest) else np.repeat(values, int(inner[1]))
-                else:
-                    count = int(rest) if rest.isdigit() else _list_size(r)
-                    if _significant(r) != b"(":
-                        raise ExportError(f"{r.where}, line {r.line_number}: expected (")
-                    labels = r.table(count, 1, np.int64).ravel()
-                    _significant(r)  # the closing ")" (or ");")
-            if labels is None:
-                raise ExportError(f"{r.where}: zone {name} has no cellLabels")
-            if labels.size and (labels.min() < 0 or labels.max() >= n_cells):
-                raise ExportError(f"{r.where}: zone {name} names cells outside 0..{n_cells - 1}")
-            region[labels] = len(names)
-            names.append(name)
+                match = re.match(rb"(\w+)\s+List<(?:label|bool)>\s*(.*)$", line)
+                if match is not None:
+                    found[match[1].decode()] = _zone_list(r, match[2].strip())
+            out.append((name, found))
+    return out
+
+
+def _zone_list(r: TextReader, rest: bytes) -> np.ndarray:
+    """The values of a zone's list whose first line (after ``List<...>``) is ``rest``."""
+    where = f"{r.where}, line {r.line_number}"
+    for pattern in (_INLINE, _UNIFORM):
+        inner = pattern.match(rest)
+        if inner:
+            values = parse_numbers(inner[2], np.int64, where)
+            if pattern is _INLINE:
+                return values
+            count = int(inner[1]) if len(inner[1]) <= _DIGITS else -1
+            if count < 0 or values.size != 1:
+                raise ExportError(
+                    f"{where}: a uniform list {rest[:60]!r} is not COUNT{{VALUE}} with a count of "
+                    f"at most {_DIGITS} digits"
+                )
+            current_guard(r.where).allocate(8 * count, f"a uniform list of {count:,}")
+            return np.repeat(values, count)
+    count = _count(rest, r) if rest.isdigit() else _list_size(r)
+    if _significant(r) != b"(":
+        raise ExportError(f"{where}: expected (")
+    values = r.table(count, 1, np.int64).ravel()
+    _significant(r)  # the closing ")" (or ");")
+    return values
+
+
+def _read_zones(poly: Path, n_cells: int) -> tuple[np.ndarray, list[str]] | None:
+    zones = _zones(poly, "cellZones")
+    if zones is None:
+        return None
+    where = str(poly / "cellZones")
+    region = np.full(n_cells, -1, dtype=np.int64)
+    names: list[str] = []
+    for name, lists in zones:
+        labels = lists.get("cellLabels")
+        if labels is None:
+            raise ExportError(f"{where}: zone {name} has no cellLabels")
+        if labels.size and (labels.min() < 0 or labels.max() >= n_cells):
+            raise ExportError(f"{where}: zone {name} names cells outside 0..{n_cells - 1}")
+        region[labels] = len(names)
+        names.append(name)
     if np.any(region < 0):
         region[region < 0] = len(names)
         names.append("unzoned")
@@ -402,7 +433,12 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         n_internal = _list_size(r)
     with foam_file(poly, "points") as (r, _):
         n_points, points = read_list(r, 3, np.float64)
-    faces = read_faces(poly, [(s, n, size) for s, n, size, _ in spans])
+    face_zones = _read_face_zones(poly, n_internal)
+    ranges = [(s, n, size) for s, n, size, _ in spans]
+    if face_zones is not None and n_internal:
+        ranges = [(0, n_internal, 4), *ranges]
+    faces = read_faces(poly, ranges)
+    internal = faces.pop(0) if face_zones is not None and n_internal else None
     face_of = {k: f for (_, _, _, k), f in zip(spans, faces, strict=True)}
     found = {"nPoints": n_points, "nFaces": n_faces, "nInternalFaces": n_internal}
     wrong = {k: (note[k], v) for k, v in found.items() if k in note and note[k] != v}
@@ -496,6 +532,25 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     boundary_edges = np.concatenate(edges) if edges else np.empty((0, 2), np.int64)
     if new_id is not None:
         boundary_edges = new_id[boundary_edges]
+    interfaces: dict[str, Any] = {}
+    if face_zones is not None and internal is not None:
+        labels, flip, zone, zone_names = face_zones
+        quad = internal[labels]
+        low = on_bottom[quad]
+        pair = low & np.roll(low, -1, axis=1)
+        if np.any(pair.sum(axis=1) != 1):
+            raise ExportError(f"{where}: a face zone has faces that are not one-layer sides")
+        i = np.argmax(pair, axis=1)
+        rows_ = np.arange(quad.shape[0])
+        inner = np.stack([quad[rows_, i], quad[rows_, (i + 1) % 4]], axis=1)
+        inner[flip] = inner[flip][:, ::-1]
+        if new_id is not None:
+            inner = new_id[inner]
+        interfaces = {
+            "interface_edges": inner,
+            "interface_patch": zone,
+            "interface_names": zone_names,
+        }
     zones = _read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
@@ -507,5 +562,34 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         "boundary_edges": boundary_edges,
         "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
         "patch_names": names,
+        **interfaces,
         "name": case.name,
     }
+
+
+def _read_face_zones(
+    poly: Path, n_internal: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]] | None:
+    """The internal faces of every face zone: labels, flips, zone index, zone names (or None)."""
+    zones = _zones(poly, "faceZones")
+    if not zones:
+        return None
+    where = str(poly / "faceZones")
+    labels, flips, names = [], [], []
+    for name, lists in zones:
+        face = lists.get("faceLabels")
+        if face is None:
+            raise ExportError(f"{where}: face zone {name} has no faceLabels")
+        if face.size and (face.min() < 0 or face.max() >= n_internal):
+            raise ExportError(
+                f"{where}: face zone {name} names faces outside the internal faces "
+                f"0..{n_internal - 1} (blockmesh reads zones of internal faces: interfaces)"
+            )
+        flip = lists.get("flipMap", np.zeros(face.size, dtype=np.int64))
+        if flip.size != face.size:
+            raise ExportError(f"{where}: face zone {name}'s flipMap has another length")
+        labels.append(face)
+        flips.append(flip != 0)
+        names.append(name)
+    zone = np.repeat(np.arange(len(names)), [f.size for f in labels])
+    return np.concatenate(labels), np.concatenate(flips), zone, names

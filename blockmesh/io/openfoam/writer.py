@@ -104,7 +104,32 @@ def _faces(mesh: Mesh | PolygonMesh) -> dict[str, np.ndarray]:
         "owner": np.concatenate([own, owner_of[b_slot]]),
         "neighbour": nei,
         "patch_sizes": patch_sizes,
+        **_zone_faces(mesh, side_a, side_b),
     }
+
+
+def _zone_faces(
+    mesh: Mesh | PolygonMesh, side_a: np.ndarray, side_b: np.ndarray
+) -> dict[str, np.ndarray]:
+    """The internal face of every interface edge, and whether its normal runs backwards.
+
+    An internal face over ``a -> b`` points out of its owner, the cell on the left of ``a -> b``;
+    the interface's first side is the cell on the left of its edge, so the face is flipped
+    (``flipMap``) where the two disagree.
+    """
+    edges = mesh.interface_edges
+    if edges.shape[0] == 0:
+        return {}
+    n = mesh.n_points
+    keys = np.minimum(side_a, side_b) * n + np.maximum(side_a, side_b)
+    order = np.argsort(keys)
+    wanted = np.minimum(edges[:, 0], edges[:, 1]) * n + np.maximum(edges[:, 0], edges[:, 1])
+    at = order[np.minimum(np.searchsorted(keys[order], wanted), max(keys.size - 1, 0))]
+    if keys.size == 0 or np.any(keys[at] != wanted):
+        raise ExportError(
+            "an interface edge of the mesh is not an internal face; the mesh is broken"
+        )
+    return {"zone_faces": at, "zone_flip": side_a[at] != edges[:, 0]}
 
 
 def _mean_edge_length(mesh: Mesh | PolygonMesh, quads: np.ndarray) -> float:
@@ -201,6 +226,27 @@ def _write_polymesh(
             _write_list(f, count, [order[offset : offset + count], b"\n"])
             f.write(b";\n}\n")
             offset += count
+        f.write(b")\n" + _END)
+    if mesh.interface_names:
+        _write_face_zones(mesh, poly, faces)
+
+
+def _write_face_zones(mesh: Mesh | PolygonMesh, poly: Path, faces: dict[str, np.ndarray]) -> None:
+    """``faceZones``: one zone per interface, its internal faces and their flip map."""
+    zones = FOAM_WORD.unique(mesh.interface_names, set(FOAM_WORD.unique(mesh.region_names)))
+    with open(poly / "faceZones", "wb") as f:
+        f.write(_header("regIOobject", "faceZones"))
+        f.write(f"{len(zones)}\n(\n".encode())
+        for k, name in enumerate(zones):
+            mine = mesh.interface_patch == k
+            labels = faces["zone_faces"][mine]
+            flips = faces["zone_flip"][mine].astype(np.int64)
+            order = np.argsort(labels, kind="stable")
+            f.write(f"{name}\n{{\n    type faceZone;\nfaceLabels      List<label> ".encode())
+            _write_list(f, labels.size, [labels[order], b"\n"])
+            f.write(b";\nflipMap         List<bool> ")
+            _write_list(f, labels.size, [flips[order], b"\n"])
+            f.write(b";\n}\n")
         f.write(b")\n" + _END)
 
 

@@ -2,20 +2,24 @@
 
 Written by :mod:`blockmesh.io.vtu.writer` in meshio's layout (arrays streamed piece by piece,
 compressed blocks on several threads). The grid holds the pentagons (VTK_POLYGON) followed by
-the boundary edges (VTK_LINE), with integer cell data
+the boundary edges and then the interface edges of a composite domain (VTK_LINE), with integer
+cell data
 
-=========== =========================== ========================
+=========== =========================== ==========================================
 array       on the polygons             on the lines
-=========== =========================== ========================
+=========== =========================== ==========================================
 block_id    the cell's block            -1
 region      index into the region names -1
 parent      the cell's parent (level-1) -1
-patch       -1                          index into the patch names
-=========== =========================== ========================
+patch       -1                          index into the patch names (-1: interface)
+interface   -1                          index into the interface names (-1: patch)
+=========== =========================== ==========================================
 
-Names, for ParaView and for blockmesh. The *field data* holds one integer array per patch and per
-region, named ``patch:NAME`` and ``region:NAME``, whose value is the index the ``patch`` and
-``region`` arrays use (ParaView lists them in its Information panel: ``patch:inlet  [1, 1]``).
+(``interface`` only when the mesh has interfaces.) Names, for ParaView and for blockmesh. The
+*field data* holds one integer array per patch, region and interface, named ``patch:NAME``,
+``region:NAME`` and ``interface:NAME``, whose value is the index the ``patch``, ``region`` and
+``interface`` arrays use (ParaView lists them in its Information panel: ``patch:inlet  [1, 1]``;
+a Threshold on ``interface`` shows the interface lines).
 Text arrays would show better, but meshio cannot read them. The names, the level and the mesh
 name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its UTF-8 bytes), which
 blockmesh reads back. A mesh with curved edges also has the field data arrays of
@@ -70,8 +74,10 @@ from blockmesh.io.common import (
     curves_from_arrays,
     decode_metadata,
     encode_metadata,
+    line_arrays,
     mesh_from_arrays,
     name_lookup,
+    split_lines,
 )
 from blockmesh.io.polygons import (
     POLYGONS,
@@ -89,6 +95,7 @@ __all__ = [
     "FORMAT",
     "field_data",
     "holds_polygons",
+    "insert_field_data",
     "mesh_from_meshio",
     "meshio_arrays",
     "meshio_mesh",
@@ -116,9 +123,14 @@ def field_data(mesh: Mesh | PolygonMesh, *, curves: bool = True) -> dict[str, np
     >>> sorted(field_data(Mesh.from_cells(sp, [[0, 1, 2, 3, 4]])))
     ['blockmesh', 'patch:boundary', 'region:domain']
     """
+    kinds = (
+        ("patch", mesh.patch_names),
+        ("region", mesh.region_names),
+        ("interface", mesh.interface_names),
+    )
     data = {
         name: np.array([index], dtype=np.int64)
-        for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names))
+        for kind, names in kinds
         for name, index in name_lookup(kind, names).items()
     }
     extra = {"cells": POLYGONS} if isinstance(mesh, PolygonMesh) else {}
@@ -154,8 +166,17 @@ def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> Non
         shutil.copyfileobj(fin, fout, 1 << 22)
 
 
+def insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
+    """Copy a VTU file meshio wrote (``src``) to ``dst`` with ``data`` as its field data.
+
+    meshio writes no field data; ``data`` maps names to integer (or ``uint8``) arrays, as
+    :func:`field_data` gives them. Other writers of VTU files (solutions) use it too.
+    """
+    _insert_field_data(src, dst, data)
+
+
 def meshio_mesh(mesh: Mesh | PolygonMesh) -> meshio.Mesh:
-    """``mesh`` as a :class:`meshio.Mesh`: polygons then boundary lines, cell data -1 padded.
+    """``mesh`` as a :class:`meshio.Mesh`: polygons then lines (boundary, interfaces), -1 padded.
 
     A PolygonMesh's cells go in one polygon block per vertex count, with the cell data
     ``cell_index`` (each cell's position in the mesh) and ``cell_level``.
@@ -164,24 +185,27 @@ def meshio_mesh(mesh: Mesh | PolygonMesh) -> meshio.Mesh:
 
     if isinstance(mesh, PolygonMesh):
         return _meshio_polygons(mesh)
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m = mesh.n_cells
+    edges, patch, interface = line_arrays(mesh)
+    eb = edges.shape[0]
     minus_m, minus_eb = np.full(m, -1, np.int64), np.full(eb, -1, np.int64)
     cells = [("polygon", mesh.cells)]
     if eb:
-        cells.append(("line", mesh.boundary_edges))
+        cells.append(("line", edges))
 
     def data(on_cells: np.ndarray, on_lines: np.ndarray) -> list[np.ndarray]:
         return [on_cells, on_lines] if eb else [on_cells]
 
+    cell_data = {
+        "block_id": data(mesh.block_id, minus_eb),
+        "region": data(mesh.region, minus_eb),
+        "parent": data(mesh.parent, minus_eb),
+        "patch": data(minus_m, patch),
+    }
+    if mesh.interface_names:
+        cell_data["interface"] = data(minus_m, interface)
     return meshio.Mesh(
-        np.column_stack([mesh.points, np.zeros(mesh.n_points)]),
-        cells,
-        cell_data={
-            "block_id": data(mesh.block_id, minus_eb),
-            "region": data(mesh.region, minus_eb),
-            "parent": data(mesh.parent, minus_eb),
-            "patch": data(minus_m, mesh.boundary_patch),
-        },
+        np.column_stack([mesh.points, np.zeros(mesh.n_points)]), cells, cell_data=cell_data
     )
 
 
@@ -367,6 +391,9 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
     patch_names = _names(meta, vm.field_data, "patch")
     if edges is not None and patch is None:
         patch_names = patch_names or ["boundary"]
+    lines_split = split_lines(edges, patch, gather("interface", lines) if lines else None)
+    if lines_split["boundary_edges"] is None and meta:
+        lines_split["boundary_edges"] = np.empty((0, 2))
     return {
         "points": vm.points,
         "cells": cells,
@@ -374,9 +401,9 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
         "parent": gather("parent", polys),
         "region": gather("region", polys),
         "region_names": _names(meta, vm.field_data, "region"),
-        "boundary_edges": edges if edges is not None else (np.empty((0, 2)) if meta else None),
-        "boundary_patch": patch,
+        **lines_split,
         "patch_names": patch_names,
+        "interface_names": _names(meta, vm.field_data, "interface"),
         **_curves(meta, vm.field_data, where),
     }
 
@@ -407,10 +434,10 @@ def padded_arrays(
         "parent": on("parent", 0),
         "region": on("region", 0),
         "region_names": _names(meta, fields, "region"),
-        "boundary_edges": edges,
-        "boundary_patch": patch,
+        **split_lines(edges, patch, on("interface", 1)),
         "patch_names": _names(meta, fields, "patch")
         or (None if patch is not None else ["boundary"]),
+        "interface_names": _names(meta, fields, "interface"),
         **_curves(meta, fields, where),
     }
 
@@ -462,7 +489,7 @@ def read_vtu(path: Path) -> Mesh | PolygonMesh:
 
 FORMAT = Format(
     name="vtu",
-    description="VTK unstructured grid (ParaView): polygons + boundary lines, via meshio",
+    description="VTK unstructured grid (ParaView): polygons + boundary lines",
     extensions=(".vtu",),
     writer=write_vtu,
     reader=read_vtu,

@@ -75,7 +75,7 @@ _COMPRESSORS: dict[str | None, str | None] = {
     "vtkLZMADataCompressor": "lzma",
 }
 _POLYGON, _LINE = 7, 3  # VTK cell types
-_CELL_DATA = ("block_id", "region", "parent", "patch")
+_CELL_DATA = ("block_id", "region", "parent", "patch", "interface")
 #: One attribute, matched where the previous one ended (never searched for: linear time).
 _ATTR = re.compile(rb"""\s*([A-Za-z_:][\w:.-]*)\s*=\s*(?:"([^"<]*)"|'([^'<]*)')""")
 

@@ -4,7 +4,8 @@ meshio's VTU writer holds every array's bytes, its compressed blocks and its bas
 and compresses 32 KB blocks at zlib's default level on one core: at level 7 it was the slowest
 stage of ``blockmesh mesh -o m.vtu`` by far (issue 22). This writer keeps meshio's layout, which
 meshio, VTK (ParaView) and :mod:`blockmesh.io.vtu_stream` read (inline ``format="binary"``
-arrays, base64, one piece of pentagons followed by boundary lines, ``UInt64`` headers), and:
+arrays, base64, one piece of pentagons followed by boundary and interface lines, ``UInt64``
+headers), and:
 
 - produces each array in pieces of rows (the points with their zero ``z`` a few thousand rows at
   a time, the offsets and cell types computed as they go), never the whole array at once;
@@ -41,6 +42,7 @@ from typing import BinaryIO
 import numpy as np
 
 from blockmesh._system.threads import default_threads
+from blockmesh.io.common import line_arrays
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = ["BLOCK_BYTES", "ZLIB_LEVEL", "write_vtu_stream"]
@@ -116,8 +118,12 @@ def _computed(name: str, dtype: str, n: int, make: Callable[[int, int], np.ndarr
 
 
 def _arrays(mesh: Mesh) -> tuple[list[_Array], list[_Array], list[_Array]]:
-    """The Points, Cells and CellData arrays of ``mesh`` (pentagons, then boundary lines)."""
-    m, eb = mesh.n_cells, int(mesh.boundary_edges.shape[0])
+    """The Points, Cells and CellData arrays of ``mesh`` (pentagons, boundary and interface lines).
+
+    The ``interface`` cell data is written only when the mesh has interfaces.
+    """
+    edges, patch, interface = line_arrays(mesh)
+    m, eb = mesh.n_cells, int(edges.shape[0])
     index = _index_type(max(mesh.n_points, 5 * m + 2 * eb + 1))
     total = m + eb
 
@@ -129,18 +135,21 @@ def _arrays(mesh: Mesh) -> tuple[list[_Array], list[_Array], list[_Array]]:
         return np.where(np.arange(a, b) < m, _POLYGON, _LINE).astype(np.uint8)
 
     cells = [
-        _joined("connectivity", mesh.cells, mesh.boundary_edges, index),
+        _joined("connectivity", mesh.cells, edges, index),
         _computed("offsets", index, total, offsets),
         _computed("types", "|u1", total, types),
     ]
     minus_m, minus_eb = np.full(m, -1, np.int32), np.full(eb, -1, np.int32)
     data = []
-    for name, on_cells, on_lines in (
+    columns = [
         ("block_id", mesh.block_id, minus_eb),
         ("region", mesh.region, minus_eb),
         ("parent", mesh.parent, minus_eb),
-        ("patch", minus_m, mesh.boundary_patch),
-    ):
+        ("patch", minus_m, patch),
+    ]
+    if mesh.interface_names:
+        columns.append(("interface", minus_m, interface))
+    for name, on_cells, on_lines in columns:
         largest = max(int(np.abs(on_cells).max(initial=0)), int(np.abs(on_lines).max(initial=0)))
         data.append(_joined(name, on_cells, on_lines, _index_type(largest)))
     return [_points(mesh.points)], cells, data
@@ -301,7 +310,7 @@ def write_vtu_stream(
         b"<!--This file was written by blockmesh-->\n<UnstructuredGrid>\n"
     )
     out.write(field_data_xml)
-    total = mesh.n_cells + int(mesh.boundary_edges.shape[0])
+    total = mesh.n_cells + int(mesh.boundary_edges.shape[0]) + int(mesh.interface_edges.shape[0])
     out.write(f'<Piece NumberOfPoints="{mesh.n_points}" NumberOfCells="{total}">\n'.encode())
     points, cells, data = _arrays(mesh)
     with ThreadPoolExecutor(max_workers=max(1, threads)) as pool:

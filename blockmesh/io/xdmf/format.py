@@ -3,17 +3,20 @@
 meshio cannot write polygons to XDMF, so the heavy data goes straight to HDF5 with h5py and the
 light XML is written with :mod:`xml.etree`. The XDMF file holds one uniform grid, like the VTU:
 a ``Mixed`` topology of the pentagons (``Polygon`` of 5 nodes) followed by the boundary edges
-(``Polyline`` of 2), ``Geometry XY``, the cell attributes ``block_id``, ``region``, ``parent`` and
-``patch`` (-1 where they do not apply), the name lookups ``patch:NAME`` and ``region:NAME`` as
-grid attributes (ParaView shows them as field data: the index each name has), and an
-``Information`` element ``blockmesh`` with the JSON metadata. The ``.h5`` file holds
+and then the interface edges of a composite domain (``Polyline`` of 2), ``Geometry XY``, the cell
+attributes ``block_id``, ``region``, ``parent``, ``patch`` and, with interfaces, ``interface``
+(-1 where they do not apply), the name lookups ``patch:NAME``, ``region:NAME`` and
+``interface:NAME`` as grid attributes (ParaView shows them as field data: the index each name
+has), and an ``Information`` element ``blockmesh`` with the JSON metadata. The ``.h5`` file holds
 
 ===================== ============== =========================================================
 ``/mesh/points``      (N, 2) f8      node coordinates
-``/mesh/topology``    (7M + 4Eb,) i8 per pentagon ``3 5 v0 .. v4``, per boundary edge ``2 2 a b``
-                                     (XDMF's mixed layout)
+``/mesh/topology``    (7M + 4Eb,) i8 per pentagon ``3 5 v0 .. v4``, per boundary or interface
+                                     edge ``2 2 a b`` (XDMF's mixed layout)
 ``/mesh/block_id``    (M + Eb,) i8   cell data, -1 where it does not apply; likewise
-                                     ``/mesh/region``, ``/mesh/parent`` and ``/mesh/patch``
+                                     ``/mesh/region``, ``/mesh/parent``, ``/mesh/patch`` and
+                                     (with interfaces) ``/mesh/interface`` (Eb counts the
+                                     interface lines too)
 ===================== ============== =========================================================
 
 and the root attribute ``blockmesh`` (the same JSON). A mesh with curved edges also has the group
@@ -78,8 +81,10 @@ from blockmesh.io.common import (
     curves_from_arrays,
     decode_metadata,
     encode_metadata,
+    line_arrays,
     mesh_from_arrays,
     name_lookup,
+    split_lines,
 )
 from blockmesh.io.polygons import POLYGONS, is_polygon_file, polygon_mesh_from_arrays
 from blockmesh.io.text import parse_numbers
@@ -108,7 +113,7 @@ def _data_item(parent: ET.Element, source: str, shape: tuple[int, ...], kind: st
 def _xdmf_tree(
     mesh: Mesh | PolygonMesh, h5name: str, meta: str, topology_size: int | None = None
 ) -> ET.ElementTree:
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0] + mesh.interface_edges.shape[0]
     root = ET.Element("Xdmf", Version="3.0")
     domain = ET.SubElement(root, "Domain")
     grid = ET.SubElement(domain, "Grid", Name=mesh.name or "mesh", GridType="Uniform")
@@ -117,11 +122,17 @@ def _xdmf_tree(
     _data_item(top, f"{h5name}:/mesh/topology", (size,), "Int")
     geo = ET.SubElement(grid, "Geometry", GeometryType="XY")
     _data_item(geo, f"{h5name}:/mesh/points", mesh.points.shape, "Float")
-    names = _CELL_DATA + (("cell_level",) if isinstance(mesh, PolygonMesh) else ())
+    names = _CELL_DATA + (("interface",) if mesh.interface_names else ())
+    names += ("cell_level",) if isinstance(mesh, PolygonMesh) else ()
     for name in names:
         att = ET.SubElement(grid, "Attribute", Name=name, AttributeType="Scalar", Center="Cell")
         _data_item(att, f"{h5name}:/mesh/{name}", (m + eb,), "Int")
-    for kind, names in (("patch", mesh.patch_names), ("region", mesh.region_names)):
+    kinds = (
+        ("patch", mesh.patch_names),
+        ("region", mesh.region_names),
+        ("interface", mesh.interface_names),
+    )
+    for kind, names in kinds:
         for label, index in name_lookup(kind, names).items():
             att = ET.SubElement(
                 grid, "Attribute", Name=label, AttributeType="Scalar", Center="Grid"
@@ -207,7 +218,9 @@ def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none
         raise ExportError(f"cannot write {path}: the XDMF file needs a name not ending in .h5")
     if isinstance(mesh, PolygonMesh):
         return _write_polygons(mesh, path, compression)
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m = mesh.n_cells
+    edges, patch, interface = line_arrays(mesh)
+    eb = edges.shape[0]
     options = _dataset_options(compression)
     write_id = secrets.token_hex(8)
     with atomic_with_data(path, ".h5", owned=_owned(path.name)) as (tmp_xdmf, tmp_h5, h5):
@@ -223,13 +236,13 @@ def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none
             del poly
             if eb:
                 line = np.empty((eb, 4), dtype=np.int64)
-                line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, mesh.boundary_edges
+                line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, edges
                 top[7 * m :] = line.ravel()
             for name in ("block_id", "region", "parent"):
                 g.create_dataset(name, data=_padded(getattr(mesh, name), m, eb), **options)
-            g.create_dataset(
-                "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
-            )
+            g.create_dataset("patch", data=_padded(patch, m, eb, lines=True), **options)
+            if mesh.interface_names:
+                g.create_dataset("interface", data=_padded(interface, m, eb, lines=True), **options)
             curves = curve_arrays(mesh)
             if curves:
                 c = f.create_group("curves")
@@ -240,9 +253,9 @@ def write_xdmf(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none
     return path
 
 
-def _polygon_topology(mesh: PolygonMesh) -> np.ndarray:
+def _polygon_topology(mesh: PolygonMesh, edges: np.ndarray) -> np.ndarray:
     """The Mixed topology of a PolygonMesh: ``3 n v..`` per cell, then ``2 2 a b`` per edge."""
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m, eb = mesh.n_cells, edges.shape[0]
     sizes = mesh.cell_sizes()
     starts = mesh.offsets[:-1] + 2 * np.arange(m)  # each record 2 + n long
     total = int(mesh.nodes.size) + 2 * m
@@ -253,7 +266,7 @@ def _polygon_topology(mesh: PolygonMesh) -> np.ndarray:
     top[np.arange(mesh.nodes.size) + 2 * (owner + 1)] = mesh.nodes
     if eb:
         line = np.empty((eb, 4), dtype=np.int64)
-        line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, mesh.boundary_edges
+        line[:, 0], line[:, 1], line[:, 2:] = _POLYLINE, 2, edges
         top[total:] = line.ravel()
     return top
 
@@ -261,10 +274,12 @@ def _polygon_topology(mesh: PolygonMesh) -> np.ndarray:
 def _write_polygons(mesh: PolygonMesh, path: Path, compression: str) -> Path:
     import h5py
 
-    m, eb = mesh.n_cells, mesh.boundary_edges.shape[0]
+    m = mesh.n_cells
+    edges, patch, interface = line_arrays(mesh)
+    eb = edges.shape[0]
     options = _dataset_options(compression)
     write_id = secrets.token_hex(8)
-    top = _polygon_topology(mesh)
+    top = _polygon_topology(mesh, edges)
     with atomic_with_data(path, ".h5", owned=_owned(path.name)) as (tmp_xdmf, tmp_h5, h5):
         meta = encode_metadata(
             mesh, light=path.name, data=h5.name, write_id=write_id, n_cells=m, cells=POLYGONS
@@ -277,9 +292,9 @@ def _write_polygons(mesh: PolygonMesh, path: Path, compression: str) -> Path:
             g.create_dataset("offsets", data=mesh.offsets, **options)
             for name in ("block_id", "region", "parent", "cell_level"):
                 g.create_dataset(name, data=_padded(getattr(mesh, name), m, eb), **options)
-            g.create_dataset(
-                "patch", data=_padded(mesh.boundary_patch, m, eb, lines=True), **options
-            )
+            g.create_dataset("patch", data=_padded(patch, m, eb, lines=True), **options)
+            if mesh.interface_names:
+                g.create_dataset("interface", data=_padded(interface, m, eb, lines=True), **options)
         tree = _xdmf_tree(mesh, h5.name, meta, topology_size=top.size)
         _write_light(tmp_xdmf, tree)
     return path
@@ -567,7 +582,7 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
         points = item(cells_grid.find("Geometry"), "the geometry")
         top_el = cells_grid.find("Topology")
         assert top_el is not None
-        edges = patch = None
+        edges = patch = interface = None
         block_id, parent, region = (
             attribute(cells_grid, a) for a in ("block_id", "parent", "region")
         )
@@ -623,6 +638,8 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
             )
             patch = attribute(cells_grid, "patch")
             patch = None if patch is None else patch[m:].copy()
+            interface = attribute(cells_grid, "interface")
+            interface = None if interface is None else interface[m:].copy()
         else:
             cells = _rows(item(top_el, "the polygons"), 5, "the polygons", where)
             if lines_grid is not None:
@@ -647,9 +664,9 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
             parent=parent,
             region=region,
             region_names=meta.get("region_names"),
-            boundary_edges=edges,
-            boundary_patch=patch,
+            **split_lines(edges, patch, interface),
             patch_names=meta.get("patch_names") or (("boundary",) if edges is not None else None),
+            interface_names=meta.get("interface_names"),
             level=meta.get("level", 0),
             name=meta.get("name", ""),
             curves=curves,

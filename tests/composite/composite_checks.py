@@ -1,0 +1,109 @@
+"""What every composite mesh must satisfy, checked against the parts' exact geometry.
+
+``shapes`` are the parts as shapely geometries (circles followed finely), in the order of the
+parts: the region of a point is the last part containing it (a later part is cut out of the
+earlier ones).
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+import shapely
+
+import blockmesh
+from blockmesh.domain.catalogue import catalogue_path
+from blockmesh.geometry.topology import cell_neighbours
+
+#: Segments per quarter circle of the exact shapes (area error about 1e-7 relative).
+FINE = 2048
+
+
+def disc(center, radius) -> shapely.Polygon:
+    return shapely.Point(*center).buffer(radius, quad_segs=FINE)
+
+
+def table_shape(table: dict) -> shapely.Geometry:
+    """A ``[[parts]]`` table as a shapely geometry (straight polygons; circles fine)."""
+    circles = list(table.get("circles", []))
+    if "circle" in table:
+        circles.append(table["circle"])
+    discs = [disc(c["center"], c["radius"]) for c in circles]
+    if "polygon" not in table:
+        return shapely.union_all(discs)
+    assert "arcs" not in table, "arcs are not followed here"
+    shape = shapely.Polygon(table["polygon"], table.get("holes", []))
+    for hole in discs:
+        shape = shape.difference(hole)
+    return shape
+
+
+def catalogue_shapes(name: str) -> dict[str, shapely.Geometry]:
+    """The parts of a composite catalogue domain, region -> exact shape, in order."""
+    raw = tomllib.loads(catalogue_path(name).read_text())
+    return {table["region"]: table_shape(table) for table in raw["parts"]}
+
+
+def region_shapes(shapes: dict[str, shapely.Geometry]) -> dict[str, shapely.Geometry]:
+    """Region i: part i minus every later part."""
+    names = list(shapes)
+    out = {}
+    for i, name in enumerate(names):
+        later = [shapes[n] for n in names[i + 1 :]]
+        out[name] = shapes[name].difference(shapely.union_all(later)) if later else shapes[name]
+    return out
+
+
+def expected_regions(points: np.ndarray, shapes: dict[str, shapely.Geometry]) -> np.ndarray:
+    """The index of the last part containing each point (-1 where none does)."""
+    out = np.full(len(points), -1)
+    for k, shape in enumerate(shapes.values()):
+        out[shapely.contains_xy(shape, points[:, 0], points[:, 1])] = k
+    return out
+
+
+def full_check(mesh: blockmesh.Mesh) -> blockmesh.Mesh:
+    """The mesh rebuilt through the Mesh constructor: every check it has runs."""
+    fields = (
+        "points", "cells", "block_id", "parent", "boundary_edges", "boundary_patch",
+        "patch_names", "region", "region_names", "level", "name", "curves",
+        "interface_edges", "interface_patch", "interface_names",
+    )  # fmt: skip
+    return blockmesh.Mesh(**{f: getattr(mesh, f) for f in fields})
+
+
+def assert_composite(mesh: blockmesh.Mesh, shapes: dict[str, shapely.Geometry]) -> None:
+    """Tiling, conformity across interfaces, convexity, regions, interface names, areas."""
+    full_check(mesh)  # counter-clockwise cells, boundary = free edges, interfaces between cells
+    mesh.check_geometry()  # every cell strictly convex
+    assert mesh.quality().not_strictly_convex == 0
+    # No two nodes at one place: the regions share their interface nodes (one id each side).
+    assert np.unique(mesh.points, axis=0).shape[0] == mesh.n_points
+    # The region of every cell, by a point-in-part test of its vertex mean.
+    assert mesh.region_names == tuple(shapes)
+    centres = mesh.points[mesh.cells].mean(axis=1)
+    assert np.array_equal(expected_regions(centres, shapes), mesh.region)
+    # Interfaces: exactly the edges between cells of two regions, named "A|B" in part order.
+    cells = mesh.interface_cells()
+    sides = mesh.region[cells]
+    assert np.all(sides[:, 0] < sides[:, 1])  # the first region on the left
+    names = [f"{mesh.region_names[a]}|{mesh.region_names[b]}" for a, b in sides.tolist()]
+    assert names == [mesh.interface_names[k] for k in mesh.interface_patch]
+    neighbour = cell_neighbours(mesh.cells, mesh.n_points)
+    c, e = np.nonzero(neighbour >= 0)
+    other = neighbour[c, e] // 5
+    across = int(np.count_nonzero(mesh.region[c] != mesh.region[other])) // 2
+    assert across == mesh.interface_edges.shape[0]
+    # Areas: every region's cells (their curved edges included) cover exactly its shape.
+    areas = mesh.curved_cell_areas()
+    for k, (name, region) in enumerate(region_shapes(shapes).items()):
+        assert np.sum(areas[mesh.region == k]) == np_approx(region.area), name
+    # Nodes on curves lie on them (both regions of a curved interface see the same nodes).
+    if mesh.curves is not None and len(mesh.curves):
+        assert float(mesh.curves.distances(mesh.points).max()) == 0.0
+
+
+def np_approx(value: float, rel: float = 2e-6):
+    return pytest.approx(value, rel=rel, abs=1e-12)
