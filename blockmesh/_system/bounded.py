@@ -461,6 +461,8 @@ def parse_xml(data: bytes, where: str, *, error: type[BlockMeshError] = ExportEr
         ) from None
     except (expat.ExpatError, AssertionError) as exc:
         raise error(f"cannot read {where} as XML: {exc}") from None
+    except (LookupError, ValueError) as exc:  # an encoding Python does not know, or multi-byte
+        raise error(f"cannot read {where} as XML: its declared encoding fails ({exc})") from None
     except RecursionError:
         raise error(f"cannot read {where} as XML: it nests too deeply") from None
 

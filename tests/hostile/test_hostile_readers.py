@@ -467,3 +467,12 @@ def test_non_finite_nodes_are_located_before_the_elements_are_merged():
         warnings.simplefilter("error")
         with pytest.raises(blockmesh.ExportError, match="m.msh: point 7 .* not finite"):
             merge_elements(split.cells, split.parent, points, where="m.msh")
+
+
+@pytest.mark.parametrize("encoding", ["utfinf", "shift_jis"])
+def test_an_xdmf_declaring_an_unusable_encoding_is_located(tmp_path, encoding):
+    # Found by the ten-minute XDMF fuzz: expat raised LookupError for an unknown encoding.
+    path = blockmesh.write(_mesh(), tmp_path / "m.xdmf")
+    text = path.read_bytes().replace(b'encoding="utf-8"', f'encoding="{encoding}"'.encode(), 1)
+    path.write_bytes(text)
+    _check_refused(tmp_path, "check", "m.xdmf", names=("m.xdmf", "encoding"))
