@@ -288,7 +288,9 @@ def dask_client(
             threads_per_worker=1,
             processes=True,
             memory_limit=memory_limit if memory_limit is not None else "auto",
-            dashboard_address=None,
+            # Any free port: None means Dask's 8787, and a second cluster on the machine then
+            # prints "Port 8787 is already in use" through the command's warnings.
+            dashboard_address=":0",
             silence_logs=logging.ERROR,
         )
         local = distributed.Client(cluster)
