@@ -476,3 +476,19 @@ def test_an_xdmf_declaring_an_unusable_encoding_is_located(tmp_path, encoding):
     text = path.read_bytes().replace(b'encoding="utf-8"', f'encoding="{encoding}"'.encode(), 1)
     path.write_bytes(text)
     _check_refused(tmp_path, "check", "m.xdmf", names=("m.xdmf", "encoding"))
+
+
+@pytest.mark.parametrize("mesh", ["pentagons", "polygons"])
+def test_openfoam_points_that_are_not_finite_are_located(tmp_path, mesh):
+    # Found by the ten-minute OpenFOAM fuzz: an infinite point reached the search for the
+    # bottom plane (RuntimeWarnings printed as warnings before the located message).
+    blockmesh.write(
+        _mesh() if mesh == "pentagons" else _polygons(), tmp_path / "case", format="openfoam"
+    )
+    points = tmp_path / "case" / "constant" / "polyMesh" / "points"
+    text = points.read_text()
+    first = re.search(r"\n\((\S+) (\S+) (\S+)\)", text[text.index("}") :])
+    assert first is not None
+    at = text.index("}") + first.start(3)  # the first point's z: the planes are found from z
+    points.write_text(text[:at] + "inf" + text[at + len(first[3]) :])
+    _check_refused(tmp_path, "check", "case", names=("points", "inf"))

@@ -308,7 +308,8 @@ def _records(
             current_guard(where).expanded(len(raw), "Element")
         part = np.frombuffer(raw, dtype=record)
         rows = part["data"]
-        whole = (rows == np.floor(rows)) & (np.abs(rows) < 2.0**62)  # NaN and inf fail
+        with np.errstate(invalid="ignore"):  # NaN compares False: refused below
+            whole = (rows == np.floor(rows)) & (np.abs(rows) < 2.0**62)  # NaN and inf fail
         if not np.all(part["head"] == expected) or not np.all(whole):
             return None
         cells[at : at + n] = rows

@@ -35,6 +35,7 @@ import numpy as np
 from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells
+from blockmesh.io.common import check_points
 from blockmesh.io.openfoam.reader import (
     FaceSizeError,
     _find_polymesh,
@@ -135,6 +136,7 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
     owner = owner.ravel()
     with foam_file(poly, "points") as (r, _):
         n_points, points = read_list(r, 3, np.float64)
+    check_points(points, str(poly / "points"))  # before the planes are found from them
     start, count = int(empty[0]["startFace"]), int(empty[0]["nFaces"])
     for p in patches:
         if int(p["startFace"]) + int(p["nFaces"]) > owner.size:

@@ -35,7 +35,7 @@ import numpy as np
 from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
-from blockmesh.io.common import mesh_from_arrays
+from blockmesh.io.common import check_points, mesh_from_arrays
 from blockmesh.io.text import TextReader, parse_numbers
 from blockmesh.mesh.mesh import Mesh
 
@@ -433,6 +433,7 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         n_internal = _list_size(r)
     with foam_file(poly, "points") as (r, _):
         n_points, points = read_list(r, 3, np.float64)
+    check_points(points, str(poly / "points"))  # before the planes are found from them
     face_zones = _read_face_zones(poly, n_internal)
     ranges = [(s, n, size) for s, n, size, _ in spans]
     if face_zones is not None and n_internal:
