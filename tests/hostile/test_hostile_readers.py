@@ -492,3 +492,13 @@ def test_openfoam_points_that_are_not_finite_are_located(tmp_path, mesh):
     at = text.index("}") + first.start(3)  # the first point's z: the planes are found from z
     points.write_text(text[:at] + "inf" + text[at + len(first[3]) :])
     _check_refused(tmp_path, "check", "case", names=("points", "inf"))
+
+
+def test_a_mat_interface_holding_text_is_located(tmp_path):
+    # The interfaces of composite domains (issue 23): on main's reader a ValueError, exit 3.
+    blockmesh.write(blockmesh.load_domain("layered-plate").mesh(1), tmp_path / "c.mat")
+    data = scipy.io.loadmat(tmp_path / "c.mat")
+    field = data["InterfaceEdges"].dtype.names[0]
+    data["InterfaceEdges"][0, 0][field] = np.array(["ab"])
+    scipy.io.savemat(tmp_path / "c.mat", {k: v for k, v in data.items() if k[:2] != "__"})
+    _check_refused(tmp_path, "check", "c.mat", names=("c.mat", "InterfaceEdges"))
