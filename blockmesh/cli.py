@@ -53,7 +53,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 
 def _show_warning(message, *_details: object, **_where: object) -> None:
-    print(f"blockmesh: warning: {message}", file=sys.stderr)
+    print(f"blockmesh: warning: {_printable(str(message))}", file=sys.stderr)
 
 
 def _remove_pending() -> None:
@@ -146,8 +146,8 @@ def _run(args: argparse.Namespace, where: str) -> tuple[int, Failure | None]:
     except RecursionError:
         return fail(2, "RecursionError", "the input is nested too deeply to read")
     except OSError as error:
-        target = f" {error.filename}" if error.filename else ""
-        message = f"{str(error.filename) + ': ' if target else ''}{error.strerror or error}"
+        target = f" {_printable(str(error.filename))}" if error.filename else ""
+        message = f"{target[1:] + ': ' if target else ''}{error.strerror or error}"
         return fail(
             2, type(error).__name__, message, f"{where}: error:{target}: {error.strerror or error}"
         )

@@ -50,6 +50,7 @@ import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+from blockmesh._system.bounded import file_kind
 from blockmesh._system.interrupts import raise_pending
 from blockmesh._system.libc import libc_function
 from blockmesh._system.procfs import umask
@@ -203,10 +204,25 @@ def check_target(path: Path, *, directory: bool = False) -> Path:
             f"cannot write {path}: the directory {parent} does not exist; "
             f"create it first (mkdir -p {parent})"
         )
-    if not directory and path.is_dir():
+    try:
+        mode: int | None = os.stat(path).st_mode  # symbolic links followed: where it would go
+    except OSError:
+        mode = None  # nothing there (or a dangling link, which the rename replaces)
+    if mode is None:
+        return path
+    if not directory and stat.S_ISDIR(mode):
         raise ExportError(f"cannot write {path}: it is a directory; give a file name")
-    if directory and path.exists() and not path.is_dir():
+    if not directory and not stat.S_ISREG(mode):
+        raise ExportError(
+            f"cannot write {path}: it is {file_kind(mode)}, not a regular file; blockmesh writes "
+            "only where a regular file may go (give another name)"
+        )
+    if directory and stat.S_ISREG(mode):
         raise ExportError(f"cannot write the directory {path}: a file of that name exists")
+    if directory and not stat.S_ISDIR(mode):
+        raise ExportError(
+            f"cannot write the directory {path}: it is {file_kind(mode)} (give another name)"
+        )
     return path
 
 
@@ -541,7 +557,8 @@ def _folder_lock(folder: Path) -> Iterator[None]:
 def data_files(light: Path, suffix: str) -> list[Path]:
     """The files beside ``light`` named like its data files.
 
-    That is ``STEM.<8 hex digits>SUFFIX`` and ``STEMSUFFIX`` (the name before the digits).
+    That is ``STEM.<8 hex digits>SUFFIX`` and ``STEMSUFFIX`` (the name before the digits); only
+    regular files (not links, FIFOs or devices, which no write made and which are never opened).
 
     Examples
     --------
@@ -555,7 +572,11 @@ def data_files(light: Path, suffix: str) -> list[Path]:
     light = Path(light).absolute()
     pattern = re.compile(re.escape(light.stem) + rf"(\.{_DATA_TOKEN})?" + re.escape(suffix))
     try:
-        names = [e.name for e in os.scandir(light.parent) if pattern.fullmatch(e.name)]
+        names = [
+            e.name
+            for e in os.scandir(light.parent)
+            if pattern.fullmatch(e.name) and e.is_file(follow_symlinks=False)
+        ]
     except OSError:
         return []
     return sorted(light.parent / name for name in names)
@@ -601,3 +622,96 @@ def atomic_with_data(
         finally:
             _unlink(light_tmp)
             _unlink(data_tmp)
+
+
+# ------------------------------------------------------------ light file + data folder
+_GENERATION = re.compile(_DATA_TOKEN)
+
+
+@contextlib.contextmanager
+def atomic_with_folder(light: Path, folder: Path) -> Iterator[tuple[Path, Path, str]]:
+    """Temporary paths for a light file and a folder of data files it names, committed together.
+
+    The data of each write goes to a folder of its own, ``folder/<8 hex digits>`` (a
+    *generation*). Yields ``(light_tmp, data_tmp, generation)``: fill the temporary folder
+    ``data_tmp`` (inside ``folder``) and write to ``light_tmp`` a light file naming its data as
+    ``FOLDER/GENERATION/NAME``. When the block succeeds, ``data_tmp`` is renamed to
+    ``folder/generation`` and then ``light_tmp`` onto ``light``: that last rename is the commit,
+    so a reader (and a process killed at any step) finds the old light file with its data or the
+    new one with its own. The other generations are removed afterwards, and so are the
+    temporaries killed writes left (:func:`clean_stale`). If the block raises, the temporaries
+    go, and ``folder`` too when this write made it and it is empty. Commits of concurrent writers
+    are serialised (flock on ``folder``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> for text in ("first", "second"):
+    ...     with atomic_with_folder(out / "m.idx", out / "m.idx.pieces") as (light, data, gen):
+    ...         _ = (data / "p0").write_text(text)
+    ...         _ = light.write_text(f"m.idx.pieces/{gen}/p0")
+    >>> named = (out / "m.idx").read_text()
+    >>> (out / named).read_text(), len(list((out / "m.idx.pieces").iterdir()))
+    ('second', 1)
+    """
+    light = check_target(Path(light))
+    folder = Path(folder).absolute()
+    with export_errors(light):
+        clean_stale(folder)  # what killed writes of the earlier layout left beside the index
+        made = False
+        try:
+            mode = os.stat(folder).st_mode
+        except FileNotFoundError:
+            os.mkdir(folder, 0o777)  # the umask applies, as to any new folder
+            made = True
+        else:
+            if not stat.S_ISDIR(mode):
+                raise ExportError(
+                    f"cannot write {light}: its data folder {folder} is {file_kind(mode)}, not a "
+                    "directory (move it away)"
+                )
+        clean_stale(light)
+        while True:
+            generation = _token(4)
+            if not os.path.lexists(folder / generation):
+                break
+        light_tmp = _new_temp_file(light)
+        data_tmp = _new_temp_dir(folder / generation)
+        committed = False
+        try:
+            yield light_tmp, data_tmp, generation
+            os.chmod(light_tmp, _mode_for(light, 0o666))
+            os.chmod(data_tmp, 0o777 & ~umask())
+            with _folder_lock(folder):
+                raise_pending()  # Ctrl-C swallowed by a finaliser during the write: no commit
+                os.rename(data_tmp, folder / generation)
+                _PENDING.add(folder / generation)  # removed again if the commit fails
+                os.replace(light_tmp, light)
+                committed = True
+                _PENDING.discard(folder / generation)
+                _clean_generations(folder, keep=generation)
+        finally:
+            _unlink(light_tmp)
+            _remove(data_tmp)
+            if not committed:
+                _remove(folder / generation)
+                if made:
+                    with contextlib.suppress(OSError):
+                        os.rmdir(folder)
+
+
+def _clean_generations(folder: Path, keep: str) -> None:
+    """Remove the generations in ``folder`` other than ``keep``, and stale temporaries."""
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return
+    for entry in entries:
+        if entry.name == keep:
+            continue
+        if _GENERATION.fullmatch(entry.name):
+            _remove(Path(entry.path))
+        elif entry.name.startswith(".") and entry.name.endswith(".tmp"):
+            generation = entry.name[1:].split(".", 1)[0]
+            clean_stale(folder / generation)

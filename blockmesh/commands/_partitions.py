@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from blockmesh._system.memory import format_bytes
+from blockmesh.commands.common import check_range
 from blockmesh.errors import BlockMeshError
 
 __all__ = ["add_partition_arguments", "check_partition_arguments"]
@@ -32,15 +34,41 @@ def add_partition_arguments(parser: argparse.ArgumentParser, what: str) -> None:
 
 
 def check_partition_arguments(args: argparse.Namespace) -> bool:
-    """Whether a partitioned run was asked for; BlockMeshError for inconsistent options."""
+    """Whether a partitioned run was asked for; BlockMeshError for inconsistent options.
+
+    Everything is checked here, before a domain is read or Dask started: the partition count,
+    the workers against this machine's cores and memory, the scheduler's address (parsed, and
+    its host resolved), and ``--max-memory`` against what a worker needs.
+    """
     if args.partitions is None:
         if args.workers is not None or args.scheduler is not None:
             raise BlockMeshError("--workers and --scheduler go with --partitions P")
         return False
-    if args.partitions < 1:
-        raise BlockMeshError(f"--partitions must be 1 or more, got {args.partitions}")
-    if args.workers is not None and args.workers < 1:
-        raise BlockMeshError(f"--workers must be 1 or more, got {args.workers}")
+    from blockmesh.distributed import (
+        MAX_PARTITIONS,
+        WORKER_BASE_BYTES,
+        max_workers,
+        scheduler_address,
+    )
+
+    check_range(args.partitions, "--partitions", 1, MAX_PARTITIONS)
     if args.workers is not None and args.scheduler is not None:
         raise BlockMeshError("give --workers (a local cluster) or --scheduler (a running one)")
+    if args.workers is not None:
+        check_range(
+            args.workers, "--workers", 1, max_workers(),
+            " (by this machine's cores and memory: each worker needs about "
+            f"{format_bytes(WORKER_BASE_BYTES)})",
+        )  # fmt: skip
+    if args.scheduler is not None:
+        try:
+            args.scheduler = scheduler_address(args.scheduler)
+        except BlockMeshError as error:
+            raise BlockMeshError(f"--scheduler: {error}") from None
+    max_memory = getattr(args, "max_memory", None)
+    if max_memory is not None and max_memory < WORKER_BASE_BYTES:
+        raise BlockMeshError(
+            f"--max-memory {format_bytes(max_memory)} is each worker's memory limit with "
+            f"--partitions, less than a worker needs ({format_bytes(WORKER_BASE_BYTES)})"
+        )
     return True

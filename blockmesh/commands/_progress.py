@@ -16,12 +16,23 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 
-__all__ = ["SHOW_AFTER", "StageProgress"]
+__all__ = ["SHOW_AFTER", "StageProgress", "printable"]
 
 #: Seconds a stage runs before its line appears.
 SHOW_AFTER = 1.0
 _TICK = 0.2
 _WIDTH = 30
+
+
+def printable(text: str, *, keep: str = "") -> str:
+    r"""``text`` with control characters shown as escapes, safe to print on a terminal.
+
+    Examples
+    --------
+    >>> print(printable("ring\x1b[2J"))
+    ring\x1b[2J
+    """
+    return "".join(c if c.isprintable() or c in keep else repr(c)[1:-1] for c in text)
 
 
 class StageProgress:
@@ -74,7 +85,7 @@ class StageProgress:
             return
         with self._lock:
             self._label, self._started, self._fraction, self._shown = (
-                label,
+                printable(label),
                 time.perf_counter(),
                 None,
                 False,

@@ -151,7 +151,7 @@ def _report_polygons(mesh: PolygonMesh, args: argparse.Namespace, caught: list[s
         f"ratio {r['max_aspect_ratio']:.3g}"
     )
     for message in caught:
-        print(f"  warning: {message}")
+        print(f"  warning: {printable(str(message))}")
     return 0
 
 
@@ -213,12 +213,12 @@ def _print_certificate(c: dict) -> None:
     print(f"  blocks {c['blocks']}, vertices {c['vertices']}, area {c['area']:.12g}")
     print(f"  shared edges {c['shared_edges']}, boundary edges {c['boundary_edges']}")
     for patch, count in c["patches"].items():
-        print(f"    patch {patch}: {count} edge{'s' if count != 1 else ''}")
+        print(f"    patch {printable(patch)}: {count} edge{'s' if count != 1 else ''}")
     for region, blocks in c["regions"].items():
         listed = ", ".join(map(str, blocks[:_LISTED]))
         more = f" ... ({len(blocks):,} in all)" if len(blocks) > _LISTED else ""
         area = c["region_areas"][region]
-        print(f"    region {region} (area {area:.12g}): blocks {listed}{more}")
+        print(f"    region {printable(region)} (area {area:.12g}): blocks {listed}{more}")
     _print_interfaces(c["interfaces"])
     pieces = c["connected_components"]
     separate = " (separate parts: the mesh is not connected)" if pieces > 1 else ""
@@ -241,4 +241,4 @@ def _print_certificate(c: dict) -> None:
     if c["blocks"] > _LISTED:
         print(f"  ... and {c['blocks'] - _LISTED:,} more blocks (all of them with --json)")
     for message in c["warnings"]:
-        print(f"  warning: {message}")
+        print(f"  warning: {printable(message)}")

@@ -3,29 +3,37 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
+import os
 import re
+import stat
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from blockmesh import io as mesh_io
-from blockmesh.commands._progress import StageProgress
+from blockmesh._system.bounded import file_kind, reading
+from blockmesh.commands._progress import StageProgress, printable
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.loading import load_domain, parse_polygon_string
 from blockmesh.errors import BlockMeshError, DomainFormatError, ExportError
 from blockmesh.geometry.polygons import DIRECTIONS
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.refinement.pipeline import MAX_LEVEL, MAX_SMOOTH
 
 __all__ = [
     "ProgressBar",
     "add_domain_arguments",
     "check_folders",
+    "check_level_options",
+    "check_range",
     "fill_template",
     "inline_polygon",
     "is_mesh_file",
@@ -82,7 +90,8 @@ def resolve_target(args: argparse.Namespace) -> Domain | Mesh | PolygonMesh:
     """The domain named on the command line, or the mesh in a mesh file blockmesh reads.
 
     A refined mesh is a valid thing to check, integrate over or refine further, so ``DOMAIN``
-    may be any file :func:`blockmesh.read` reads (its extension says which).
+    may be any file :func:`blockmesh.read` reads (its extension says which); its read honours
+    the command's ``--max-memory`` where it has one.
     """
     domain = _one_name(args)
     if args.polygon is not None and domain:
@@ -99,7 +108,12 @@ def resolve_target(args: argparse.Namespace) -> Domain | Mesh | PolygonMesh:
             "no domain: give a catalogue name, a .toml, .wkt or .geojson file or a mesh file, "
             "or --polygon \"x1,y1 x2,y2 ...\" (see 'blockmesh catalogue')"
         )
-    return load_target(domain, progress=StageProgress.wanted(args), patches=patches)
+    return load_target(
+        domain,
+        progress=StageProgress.wanted(args),
+        patches=patches,
+        max_memory=getattr(args, "max_memory", None),
+    )
 
 
 def _one_name(args: argparse.Namespace) -> str | None:
@@ -124,13 +138,19 @@ def is_mesh_file(name: str) -> bool:
 
 
 def load_target(
-    name: str, *, progress: bool = False, patches: dict[str, list[int | str]] | None = None
+    name: str,
+    *,
+    progress: bool = False,
+    patches: dict[str, list[int | str]] | None = None,
+    max_memory: int | None = None,
 ) -> Domain | Mesh | PolygonMesh:
     """A catalogue domain, a domain file, or a mesh file read by :func:`blockmesh.read`.
 
     With ``progress``, a read that takes over a second shows a line on stderr
     (``mesh.msh: reading ...  3.0 s``, then ``done in``), as the command's other stages do.
     ``patches`` (from ``--patch``) name edges of a ``.wkt`` or ``.geojson`` outline.
+    ``max_memory`` (``--max-memory``) limits what reading a mesh file may allocate, for a file
+    read to convert too (see :mod:`blockmesh._system.bounded`).
     """
     if patches and Path(name).suffix.lower() not in (".wkt", ".geojson", ".json"):
         raise BlockMeshError(
@@ -139,11 +159,12 @@ def load_target(
             "its boundary)"
         )
     if not is_mesh_file(name):
-        return load_domain(name, patches=patches)
+        with reading(name, max_memory=max_memory):
+            return load_domain(name, patches=patches)
 
     try:
         with StageProgress(printable(Path(name).name), enabled=progress).stage("reading"):
-            return mesh_io.read(name)
+            return mesh_io.read(name, max_memory=max_memory)
     except ExportError as error:
         raise ExportError(
             f"{error}. If {name} is a triangle or quadrilateral mesh rather than one blockmesh "
@@ -245,6 +266,7 @@ def check_folders(*targets: str | None) -> None:
     for target in targets:
         if not target:
             continue
+        _refuse_special(target)
         folder = Path(target).absolute().parent
         if any(field in str(folder) for field in TEMPLATE_FIELDS):
             continue
@@ -255,6 +277,23 @@ def check_folders(*targets: str | None) -> None:
                 f"cannot write {target}: the directory {folder} does not exist; create it first "
                 f"(mkdir -p {folder})"
             )
+
+
+def _refuse_special(target: str) -> None:
+    """ExportError now if ``target`` is a FIFO, a device or a socket (links followed).
+
+    Such a path is no place for an output: writing would replace the node (or, through a link,
+    write into the device). A directory is left to the format (OpenFOAM writes one).
+    """
+    try:
+        mode = os.stat(target).st_mode
+    except (OSError, ValueError):
+        return  # nothing there yet
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise ExportError(
+            f"cannot write {printable(target)}: it is {file_kind(mode)}, not a regular file; "
+            "blockmesh writes only where a regular file may go (give another name)"
+        )
 
 
 def is_templated(pattern: str) -> bool:
@@ -279,26 +318,77 @@ def safe_component(text: str) -> str:
     return cleaned
 
 
-def fill_template(pattern: str, *, name: str, level: int) -> str:
+@contextlib.contextmanager
+def fill_template(pattern: str, *, name: str, level: int) -> Iterator[str]:
     """``pattern`` with ``{name}`` and ``{level}`` filled in, its missing folders created.
 
-    The name is made a safe single path component first (:func:`safe_component`).
+    The name is made a safe single path component first (:func:`safe_component`). The folders
+    made for it are removed again (those left empty) when the block raises: a failed write leaves
+    nothing behind.
 
     Examples
     --------
-    >>> fill_template("{name}-{level}.vtu", name="../x", level=2)
+    >>> with fill_template("{name}-{level}.vtu", name="../x", level=2) as path:
+    ...     path
     'x-2.vtu'
     """
     filled = pattern.replace("{name}", safe_component(name)).replace("{level}", str(int(level)))
+    made: list[Path] = []
     if is_templated(pattern):
         folder = Path(filled).parent
+        made = [p for p in (folder, *folder.parents) if not p.exists()]
         try:
             folder.mkdir(parents=True, exist_ok=True)
         except OSError as error:
+            _remove_empty(made)
             raise ExportError(
-                f"cannot create the folder {folder} for {filled}: {error.strerror}"
+                f"cannot create the folder {printable(str(folder))} for {printable(filled)}: "
+                f"{error.strerror}"
             ) from None
-    return filled
+    try:
+        yield filled
+    except BaseException:
+        _remove_empty(made)
+        raise
+
+
+def _remove_empty(folders: list[Path]) -> None:
+    """Remove ``folders`` (deepest first) while they are empty."""
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except OSError:
+            return
+
+
+def check_range(value: int | None, flag: str, minimum: int, maximum: int, why: str = "") -> None:
+    """BlockMeshError now unless ``value`` (if given) is in ``minimum..maximum``.
+
+    Examples
+    --------
+    >>> check_range(10**30, "--level", 0, 10_000, " (beyond any machine)")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.BlockMeshError: --level must be 0..10,000 (beyond any machine), got ...
+    """
+    if value is None or minimum <= value <= maximum:
+        return
+    shown = str(value) if len(str(value)) <= 20 else f"a number of {len(str(abs(value)))} digits"
+    if value < minimum:
+        raise BlockMeshError(f"{flag} must be {minimum:,} or more, got {shown}")
+    raise BlockMeshError(f"{flag} must be {minimum:,}..{maximum:,}{why}, got {shown}")
+
+
+def check_level_options(args: argparse.Namespace) -> None:
+    """``--level`` and ``--smooth`` (where the command has them) within their bounds."""
+    check_range(
+        getattr(args, "level", None), "--level", 0, MAX_LEVEL,
+        " (each level multiplies the cells by 6: level 30 is beyond any machine)",
+    )  # fmt: skip
+    check_range(
+        getattr(args, "smooth", None), "--smooth", 0, MAX_SMOOTH,
+        " (Laplacian sweeps per level: a few cure most distortion)",
+    )  # fmt: skip
 
 
 def plural(count: int, noun: str) -> str:
@@ -310,17 +400,6 @@ def plural(count: int, noun: str) -> str:
     ('1 block', '1,296 cells')
     """
     return f"{count:,} {noun}{'' if count == 1 else 's'}"
-
-
-def printable(text: str, *, keep: str = "") -> str:
-    r"""``text`` with control characters shown as escapes, safe to print on a terminal.
-
-    Examples
-    --------
-    >>> print(printable("ring\x1b[2J"))
-    ring\x1b[2J
-    """
-    return "".join(c if c.isprintable() or c in keep else repr(c)[1:-1] for c in text)
 
 
 def _plain(value: Any) -> Any:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from blockmesh.commands.common import check_folders, print_json
+from blockmesh.commands.common import check_folders, check_level_options, print_json, printable
 from blockmesh.commands.options import add_json_option, add_level_option
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import ArgumentError
@@ -50,6 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh convert`` with the parsed ``args``; returns the exit code."""
+    check_level_options(args)
     check_folders(args.output)
     domain = Domain.from_mesh(args.input, name=args.name)
     output = Path(args.output)
@@ -88,13 +89,13 @@ def run(args: argparse.Namespace) -> int:
         return 0
     per = ", ".join(f"{count} with {k} blocks" for k, count in report["blocks_per_element"].items())
     print(
-        f"converted {args.input}: {report['elements']} elements ({per}) -> {domain.n_blocks} "
-        f"pentagonal blocks ({domain.layout}), angles {report['min_angle']:.2f}° .. "
-        f"{report['max_angle']:.2f}°"
+        f"converted {printable(args.input)}: {report['elements']} elements ({per}) -> "
+        f"{domain.n_blocks} pentagonal blocks ({domain.layout}), angles "
+        f"{report['min_angle']:.2f}° .. {report['max_angle']:.2f}°"
     )
     for name, count in report["patches"].items():
-        print(f"  patch {name}: {count} edges")
+        print(f"  patch {printable(name)}: {count} edges")
     for name, count in report["regions"].items():
-        print(f"  region {name}: {count} blocks")
-    print(f"wrote {written} (level {args.level}, {cells:,} cells)")
+        print(f"  region {printable(name)}: {count} blocks")
+    print(f"wrote {printable(str(written))} (level {args.level}, {cells:,} cells)")
     return 0

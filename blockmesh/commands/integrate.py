@@ -12,6 +12,8 @@ from typing import Any
 from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
 from blockmesh.commands.common import (
     add_domain_arguments,
+    check_level_options,
+    check_range,
     levels_to_add,
     print_json,
     printable,
@@ -28,6 +30,7 @@ from blockmesh.quadrature import (
     integrate_with_estimate,
 )
 from blockmesh.quadrature.exact import exact_integral
+from blockmesh.refinement.pipeline import MAX_LEVEL
 
 __all__ = ["register", "run"]
 
@@ -188,6 +191,8 @@ def _level(args: argparse.Namespace, target: Any) -> int:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh integrate`` with the parsed ``args``; returns the exit code."""
+    check_level_options(args)
+    check_range(args.max_level, "--max-level", 0, MAX_LEVEL)
     target = resolve_target(args)
     exact = exact_integral(target, args.function) if args.exact else None
     result = _integrate(args, target)
@@ -243,11 +248,11 @@ def run(args: argparse.Namespace) -> int:
     if result.converged:
         return 0
     if args.tol is not None:
-        print(f"blockmesh integrate: warning: {result.message}", file=sys.stderr)
+        print(f"blockmesh integrate: warning: {printable(result.message)}", file=sys.stderr)
         return 1
     print(
-        f"blockmesh integrate: warning: {result.message}; on the command line: a higher --level "
-        "or --order, or --tol",
+        f"blockmesh integrate: warning: {printable(result.message)}; on the command line: a "
+        "higher --level or --order, or --tol",
         file=sys.stderr,
     )
     return 0

@@ -26,6 +26,7 @@ from blockmesh.commands.common import (
     ProgressBar,
     add_domain_arguments,
     check_folders,
+    check_level_options,
     fill_template,
     inline_polygon,
     levels_to_add,
@@ -384,23 +385,29 @@ def _mesh_one(
     if options["plot"]:
         from blockmesh.plot import plot_mesh
 
-        with _stage(progress, "drawing the mesh", prediction):
-            report["plot"] = str(plot_mesh(mesh, _fill(options["plot"], mesh)))
+        with _stage(progress, "drawing the mesh", prediction), _fill(options["plot"], mesh) as at:
+            report["plot"] = str(plot_mesh(mesh, at))
     if options["quality_plot"]:
         from blockmesh.plot import plot_quality
 
-        with _stage(progress, "drawing the quality histograms", prediction):
-            report["quality_plot"] = str(plot_quality(mesh, _fill(options["quality_plot"], mesh)))
+        with (
+            _stage(progress, "drawing the quality histograms", prediction),
+            _fill(options["quality_plot"], mesh) as at,
+        ):
+            report["quality_plot"] = str(plot_quality(mesh, at))
     if options["size_plot"]:
         from blockmesh.plot import plot_sizes
 
-        with _stage(progress, "drawing the cell sizes", prediction):
-            report["size_plot"] = str(
-                plot_sizes(mesh, _fill(options["size_plot"], mesh), field=field)
-            )
+        with (
+            _stage(progress, "drawing the cell sizes", prediction),
+            _fill(options["size_plot"], mesh) as at,
+        ):
+            report["size_plot"] = str(plot_sizes(mesh, at, field=field))
     if output:
-        target_path = _fill(output, mesh)
-        with _stage(progress, f"writing {target_path}", prediction):
+        with (
+            _fill(output, mesh) as target_path,
+            _stage(progress, f"writing {target_path}", prediction),
+        ):
             report["output"] = str(
                 write(
                     mesh,
@@ -463,15 +470,12 @@ def _marking(args: argparse.Namespace) -> Marking | None:
     return parts[0] if len(parts) == 1 else any_of(*parts)
 
 
-def _fill(pattern: str, mesh: Mesh | PolygonMesh) -> str:
+def _fill(pattern: str, mesh: Mesh | PolygonMesh) -> contextlib.AbstractContextManager[str]:
     return fill_template(pattern, name=mesh.name or "mesh", level=mesh.level)
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
-    if args.level is not None and args.level < 0:
-        raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
-    if args.smooth < 0:
-        raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    check_level_options(args)
     if args.uniform and args.size is not None:
         raise BlockMeshError("give --uniform (one size, the count of --level) or --size, not both")
     if args.gradation is not None and args.size is None:
@@ -549,7 +553,7 @@ def _print_report(report: dict[str, Any], done: str = "refined") -> None:
         ("output", "mesh"),
     ):
         if report.get(key):
-            print(f"  wrote {label} {report[key]}")
+            print(f"  wrote {label} {printable(report[key])}")
 
 
 def _size_lines(report: dict[str, Any]) -> list[str]:
@@ -639,12 +643,14 @@ def _run_partitioned(args: argparse.Namespace) -> int:
             "1 or more (the levels to add to the mesh file's own)"
         )
     level = target.level + steps if isinstance(target, Mesh | PolygonMesh) else steps
-    output = fill_template(args.output, name=target.name or "mesh", level=level)
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     parts = distributed.partition(target, steps, args.partitions)  # refuses PolygonMesh
     predicted = max(distributed.predict_task_bytes(parts, p) for p in range(parts.n_partitions))
     label = f"making {args.partitions} pieces on Dask workers"
-    with progress.stage(label) as tick:
+    with (
+        fill_template(args.output, name=target.name or "mesh", level=level) as output,
+        progress.stage(label) as tick,
+    ):
         made = distributed.refine_to(
             cast(Domain | Mesh, target),  # partition() has refused a PolygonMesh
             steps,
@@ -708,7 +714,8 @@ def _expand(names: list[str]) -> list[str]:
 
 def _batch_worker(name: str, options: dict[str, Any], output: str | None) -> dict[str, Any]:
     try:
-        return {"ok": True, **_mesh_one(load_target(name), options, output)}
+        target = load_target(name, max_memory=options["max_memory"])
+        return {"ok": True, **_mesh_one(target, options, output)}
     except BlockMeshError as error:
         return {"ok": False, "domain": name, "error": str(error)}
 
@@ -748,7 +755,7 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
                 print(
                     f"{printable(r['domain']):<16} {r['cells']:>12,} {r['nodes']:>12,} "
                     f"{q['min_angle']:>7.2f} {q['max_angle']:>7.2f} {r['seconds']:>7.3f}  "
-                    f"{', '.join(written) or '-'}"
+                    f"{printable(', '.join(written)) or '-'}"
                 )
             else:
                 print(f"{printable(r['domain']):<16} FAILED: {printable(r['error'])}")
@@ -763,6 +770,7 @@ def _run_batch(names: list[str], options: dict[str, Any], args: argparse.Namespa
 
 def run(args: argparse.Namespace) -> int:
     """Run ``blockmesh mesh`` with the parsed ``args``; returns the exit code."""
+    check_level_options(args)
     if check_partition_arguments(args):
         return _run_partitioned(args)
     options = _options(args)
@@ -788,7 +796,12 @@ def run(args: argparse.Namespace) -> int:
     target = (
         inline_polygon(args.polygon, args.hole, patches)
         if args.polygon is not None
-        else load_target(domains[0], progress=StageProgress.wanted(args), patches=patches)
+        else load_target(
+            domains[0],
+            progress=StageProgress.wanted(args),
+            patches=patches,
+            max_memory=options["max_memory"],
+        )
     )
     progress = StageProgress(printable(target.name), enabled=StageProgress.wanted(args))
     report = _mesh_one(target, options, args.output, progress=progress)

@@ -51,5 +51,5 @@ def run(args: argparse.Namespace) -> int:
     else:
         path = plot_domain(target, output, labels=args.labels)
         what = plural(target.n_blocks, "block")
-    print(f"wrote {path} ({printable(target.name)}: {what})")
+    print(f"wrote {printable(str(path))} ({printable(target.name)}: {what})")
     return 0

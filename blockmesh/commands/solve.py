@@ -29,8 +29,10 @@ from blockmesh._system.memory import available_memory, process_rss
 from blockmesh.commands.common import (
     add_domain_arguments,
     check_folders,
+    check_level_options,
     levels_to_add,
     print_json,
+    printable,
     resolve_target,
 )
 from blockmesh.commands.options import (
@@ -307,10 +309,7 @@ def _numbers(value: Any, flag: str) -> Any:
 
 
 def _check(args: argparse.Namespace) -> None:
-    if args.level is not None and args.level < 0:
-        raise BlockMeshError(f"--level must be 0 or more, got {args.level}")
-    if args.smooth < 0:
-        raise BlockMeshError(f"--smooth must be 0 or more, got {args.smooth}")
+    check_level_options(args)
     if args.output and not args.output.lower().endswith((*SOLUTION_FORMATS, ".xmf")):
         raise BlockMeshError(
             f"--output {args.output}: a solution is written to .vtu (ParaView) or .xdmf"
@@ -499,4 +498,4 @@ def _print_report(report: dict[str, Any], args: argparse.Namespace) -> None:
         )
     for given, label in ((args.output, "solution"), (args.plot, "plot")):
         if given:
-            print(f"  wrote {label} {given}")
+            print(f"  wrote {label} {printable(given)}")

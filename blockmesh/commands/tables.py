@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from blockmesh._system.atomic import atomic_file
-from blockmesh.commands.common import check_folders, print_json
+from blockmesh.commands.common import check_folders, print_json, printable
 from blockmesh.commands.options import add_json_option, add_plot_option
 from blockmesh.quadrature import RULES
 from blockmesh.tables import PENTAGONS, TABLES, PaperTable, compute_table, format_table, write_csv
@@ -112,10 +112,10 @@ def run(args: argparse.Namespace) -> int:
             open(temporary, "w", encoding="utf-8", newline="") as handle,
         ):
             rows = write_csv(results, handle)
-        written.append(f"wrote {rows} rows to {args.csv}")
+        written.append(f"wrote {rows} rows to {printable(args.csv)}")
     if args.plot:
         plot_convergence(results, args.plot)
-        written.append(f"wrote {args.plot}")
+        written.append(f"wrote {printable(args.plot)}")
     if args.json:
         print_json(
             {

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from abc import ABC, abstractmethod
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
@@ -47,6 +48,8 @@ __all__ = ["CURVE_KINDS", "Arc", "Curve", "Polyline", "Spline", "curve_from_fiel
 SHAPE_TOL = 1e-9
 #: Samples per spline or polyline piece used to detect a curve crossing itself.
 _LOOP_SAMPLES = 24
+#: Most interior points of one spline or polyline (each piece is sampled to check for loops).
+MAX_CURVE_POINTS = 5_000
 
 Point = tuple[float, float]
 
@@ -54,13 +57,16 @@ Point = tuple[float, float]
 def as_point(value: object, what: str) -> Point:
     """``value`` as an ``(x, y)`` pair of finite floats, or DomainFormatError naming ``what``."""
     if isinstance(value, str | bytes) or not isinstance(value, Iterable):
-        raise DomainFormatError(f"{what} must be a pair [x, y], got {value!r}")
+        raise DomainFormatError(f"{what} must be a pair [x, y], got {value!r:.80}")
     pair = list(value)
     if len(pair) != 2 or not all(
         isinstance(c, numbers.Real) and not isinstance(c, bool) for c in pair
     ):
-        raise DomainFormatError(f"{what} must be a pair [x, y] of numbers, got {value!r}")
-    x, y = float(pair[0]), float(pair[1])
+        raise DomainFormatError(f"{what} must be a pair [x, y] of numbers, got {value!r:.80}")
+    try:
+        x, y = float(pair[0]), float(pair[1])
+    except OverflowError:
+        raise DomainError(f"{what} has a coordinate too large for a double") from None
     if not (math.isfinite(x) and math.isfinite(y)):
         raise DomainError(f"{what} ({x!r}, {y!r}) is not finite")
     return (x, y)
@@ -388,6 +394,11 @@ class _Pieces(Curve):
     _nodes: np.ndarray = field(default_factory=_empty, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        if hasattr(self.points, "__len__") and len(self.points) > MAX_CURVE_POINTS:
+            raise DomainError(
+                f"the {self.kind} has {len(self.points):,} points; at most {MAX_CURVE_POINTS:,} "
+                "(a curve of more is a polygon: give its corners)"
+            )
         _store(self, points=_points(self.points, f"the {self.kind}'s points"))
 
     def _prepare(self, where: str) -> None:
@@ -407,7 +418,12 @@ class _Pieces(Curve):
         knots[-1] = 1.0
         _store(self, _knots=knots, _nodes=nodes)
         self._prepare_pieces()
-        crossing = _first_crossing(self._polyline_samples())
+        # the polyline through the points first (n points, not 24 n samples): a curve whose
+        # points run over each other loops, and GEOS, slower on lines that overlap much, is
+        # spared its samples
+        crossing = _first_crossing(nodes)
+        if crossing is None:
+            crossing = _first_crossing(self._polyline_samples())
         if crossing is not None:
             raise DomainError(
                 f"{label} crosses itself near {fmt_point(crossing)}; reorder its points or space "
@@ -566,29 +582,30 @@ def _piecewise_segment_area(curve: _Pieces, t0: Any, t1: Any, n: int) -> np.ndar
 def _first_crossing(line: np.ndarray) -> np.ndarray | None:
     """A point where two non-adjacent segments of the open polyline ``line`` meet, or None.
 
-    O(n^2) on the samples of one curve (a few hundred segments at most).
+    O(n log n) in the n points, in O(n) memory (GEOS): whether the line is simple decides; where
+    it crosses is what GEOS's validity check of the line closed into a ring reports (its first
+    self-intersection; the start when it names none). Collinear pieces doubling back count as
+    crossings too.
+
+    Examples
+    --------
+    >>> _first_crossing(np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, -1.0]])).tolist()
+    [1.0, 0.0]
+    >>> _first_crossing(np.array([[0, 0], [1, 0], [1, 1.0]])) is None
+    True
     """
-    a, b = line[:-1], line[1:]
-    n = a.shape[0]
-    if n < 3:
+    import shapely
+
+    if line.shape[0] < 4 or not np.all(np.isfinite(line)):
         return None
-    d = b - a
-    i, j = np.triu_indices(n, k=2)
-    denom = _cross(d[i], d[j])
-    ab = a[j] - a[i]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = _cross(ab, d[j]) / denom
-        u = _cross(ab, d[i]) / denom
-    hit = (denom != 0) & (s >= 0) & (s <= 1) & (u >= 0) & (u <= 1)
-    # Collinear overlapping pieces (a curve doubling back on itself) count as crossings too.
-    scale = float(np.max(np.hypot(*d.T))) if n else 1.0
-    back = (np.abs(denom) <= 1e-14 * scale * scale) & (np.abs(_cross(ab, d[i])) <= 1e-14 * scale**2)
-    back &= np.einsum("ij,ij->i", d[i], d[j]) < 0
-    hits = np.flatnonzero(hit | back)
-    if hits.size == 0:
+    if shapely.is_simple(shapely.linestrings(line)):
         return None
-    k = int(hits[0])
-    return a[i[k]] + (s[k] if hit[k] else 0.0) * d[i[k]]
+    reason = shapely.is_valid_reason(shapely.polygons(np.vstack([line, line[:1]])))
+    found = _WHERE.search(reason or "")
+    return np.array([float(found[1]), float(found[2])]) if found else line[0]
+
+
+_WHERE = re.compile(r"\[([-+0-9.eE]+) ([-+0-9.eE]+)")
 
 
 # ---------------------------------------------------------------------------- domain files

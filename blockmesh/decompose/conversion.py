@@ -35,9 +35,8 @@ Examples
 
 from __future__ import annotations
 
-import contextlib
-import io
 import itertools
+import os
 import warnings
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -46,11 +45,25 @@ import numpy as np
 
 from blockmesh import io as blockmesh_io
 from blockmesh._moved import removed_names
+from blockmesh._system.bounded import check_regular
 from blockmesh.decompose.optimise import WorstAngle
 from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.decompose.triangulate import constrained_delaunay
-from blockmesh.errors import BlockMeshError, BlockMeshWarning, DomainError, DomainFormatError
-from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL, corner_sines, local_frame, signed_area
+from blockmesh.errors import (
+    BlockMeshError,
+    BlockMeshWarning,
+    DomainError,
+    DomainFormatError,
+    ResourceError,
+)
+from blockmesh.geometry.polygons import (
+    COLLINEAR_SIN_TOL,
+    MAX_COORDINATE,
+    corner_sines,
+    local_frame,
+    signed_area,
+)
+from blockmesh.io.sandbox import read_with_meshio
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.refinement.placement import Freedom
 
@@ -82,29 +95,28 @@ def read_element_mesh(source: Any) -> Any:
 
     blockmesh's own files (``.npz``, ``.mat``, and the ``.vtu``/``.xdmf``/``.msh`` it writes) are
     read with :func:`blockmesh.read`, which keeps patch and region names; anything else with
-    meshio, and a ``.msh`` that meshio cannot read with the gmsh API where it is installed.
+    meshio, and a ``.msh`` that meshio cannot read with the gmsh API where it is installed, in a
+    child process with memory and time limits (:mod:`blockmesh.io.sandbox`). Only regular files
+    are read (a FIFO or a device is refused before it is opened).
     """
     import meshio
 
     if isinstance(source, meshio.Mesh | Mesh):
         return source
     path = Path(source)
-    if not path.exists():
-        raise DomainFormatError(f"{path}: no such file")
 
+    if not os.path.lexists(path):
+        raise DomainFormatError(f"{path}: no such file")
+    check_regular(path, error=DomainFormatError)
     try:
         return blockmesh_io.read(path)
-    except (BlockMeshError, OSError, ValueError, KeyError, IndexError, TypeError, SystemExit):
-        pass  # not a file blockmesh wrote (meshio, under the VTU reader, may even exit)
+    except ResourceError:
+        raise
+    except BlockMeshError:
+        pass  # not a file blockmesh wrote
     try:
-        # meshio's Gmsh reader prints a blank line to stdout; the library stays quiet.
-        with contextlib.redirect_stdout(io.StringIO()):
-            return meshio.read(path)
-    except (Exception, SystemExit) as error:  # meshio raises many kinds, and may even exit
-        if path.suffix.lower() == ".msh":
-            gmsh_mesh = _read_with_gmsh(path)
-            if gmsh_mesh is not None:
-                return gmsh_mesh
+        return read_with_meshio(path)
+    except BlockMeshError as error:
         raise DomainFormatError(f"{path}: cannot read it as a mesh ({error})") from None
 
 
@@ -218,6 +230,13 @@ def _elements_of(mesh: Any) -> _Elements:
     points = np.asarray(mesh.points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] not in (2, 3) or points.shape[0] == 0:
         raise DomainFormatError(f"the mesh's points must be (n, 2) or (n, 3), got {points.shape}")
+    fine = np.all(np.abs(points) <= MAX_COORDINATE, axis=1)  # NaN fails too
+    if not fine.all():
+        bad = int(np.flatnonzero(~fine)[0])
+        raise DomainFormatError(
+            f"point {bad} of the mesh is {points[bad].tolist()}: coordinates must be finite "
+            f"numbers of at most {MAX_COORDINATE:g} in magnitude"
+        )
     if points.shape[1] == 3:
         z = points[:, 2]
         extent = float(np.ptp(points[:, :2], axis=0).max()) or 1.0

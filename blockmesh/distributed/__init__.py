@@ -9,7 +9,8 @@ and checksums. Nothing gathers the mesh on the client.
 
 - :func:`refine_to` writes ``out.pvtu`` (ParaView's parallel VTU, with ``GlobalNodeIds`` and
   ghost marks) or ``out.xdmf`` (an XDMF spatial collection of HDF5 pieces), pieces in
-  ``out.pvtu.pieces/`` (or ``out.xdmf.pieces/``);
+  ``out.pvtu.pieces/<8 hex digits>/`` (or ``out.xdmf.pieces/...``): a folder of their own at
+  every write, committed with the index (:func:`blockmesh._system.atomic.atomic_with_folder`);
 - :func:`integrate` and :func:`integrate_with_estimate` sum the integrals of the partitions;
 - :func:`gather` reads a partitioned mesh back into one :class:`~blockmesh.mesh.Mesh` (for meshes
   that fit): it equals the serial :func:`blockmesh.refine` result array for array, bit for bit.
@@ -37,8 +38,9 @@ import contextlib
 import logging
 import math
 import os
-import shutil
-import tempfile
+import re
+import signal
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -47,9 +49,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from blockmesh._system.atomic import atomic_file, check_target
-from blockmesh._system.memory import format_bytes, format_count
-from blockmesh._system.procfs import umask
+from blockmesh._system.atomic import atomic_with_folder, check_target
+from blockmesh._system.bounded import reading
+from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.checks import renamed_keywords, whole_number
 from blockmesh.distributed.files import (
     INDEX_SUFFIXES,
@@ -60,7 +62,7 @@ from blockmesh.distributed.files import (
     write_pvtu_index,
     write_xdmf_index,
 )
-from blockmesh.distributed.partition import Partitioning, partition
+from blockmesh.distributed.partition import MAX_PARTITIONS, Partitioning, partition
 from blockmesh.distributed.pieces import piece_node_count
 from blockmesh.distributed.tasks import integrate_piece_task, write_piece_task
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ExportError, ResourceError
@@ -72,15 +74,18 @@ if TYPE_CHECKING:
     from blockmesh.domain.domain import Domain
 
 __all__ = [
+    "MAX_PARTITIONS",
     "PartitionedMesh",
     "Partitioning",
     "dask_client",
     "gather",
     "integrate",
     "integrate_with_estimate",
+    "max_workers",
     "partition",
     "predict_task_bytes",
     "refine_to",
+    "scheduler_address",
 ]
 
 #: Resident bytes of a worker process with blockmesh imported, before its first piece (measured
@@ -89,6 +94,81 @@ WORKER_BASE_BYTES = 120 * 10**6
 _ENVIRON_KEY = "distributed.nanny.pre-spawn-environ"
 #: Share of a worker's memory limit a task may use: Dask pauses a worker at 80 %.
 _WORKER_SHARE = 0.75
+#: Most local worker processes per core.
+WORKERS_PER_CORE = 4
+#: The schemes of the Dask addresses blockmesh connects to, and the port Dask listens on.
+_SCHEMES = ("tcp", "tls", "ws", "wss")
+_DEFAULT_PORT = 8786
+_LABEL = re.compile(r"(?!-)[A-Za-z0-9-]{1,63}(?<!-)")
+
+
+def max_workers() -> int:
+    """The most local worker processes this machine runs: by its cores and its memory.
+
+    :data:`WORKERS_PER_CORE` per core, and no more than the available memory holds at
+    :data:`WORKER_BASE_BYTES` each (at least one).
+
+    Examples
+    --------
+    >>> max_workers() >= 1
+    True
+    """
+    return max(1, min(WORKERS_PER_CORE * _cores(), available_memory() // WORKER_BASE_BYTES))
+
+
+def scheduler_address(text: str) -> str:
+    """``text`` as the address of a Dask scheduler, ``SCHEME://HOST:PORT``; checked, not dialled.
+
+    The scheme is one of ``tcp`` (the default), ``tls``, ``ws`` and ``wss``; the host a name of
+    DNS labels or an IP address; the port 1..65535 (default 8786).
+
+    Examples
+    --------
+    >>> scheduler_address("head"), scheduler_address("tls://10.0.0.5:9000")
+    ('tcp://head:8786', 'tls://10.0.0.5:9000')
+    >>> scheduler_address("inproc://x")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ArgumentError: scheduler address 'inproc://x': the scheme 'inproc' is not ...
+    """
+    import ipaddress
+
+    raw = str(text).strip()
+    shown = raw if len(raw) <= 60 else raw[:57] + "..."
+
+    def bad(why: str) -> ArgumentError:
+        return ArgumentError(f"scheduler address {shown!r}: {why}")
+
+    if not raw:
+        raise bad("it is empty; give HOST:PORT or tcp://HOST:PORT")
+    scheme, sep, rest = raw.partition("://")
+    if not sep:
+        scheme, rest = "tcp", raw
+    if scheme not in _SCHEMES:
+        raise bad(f"the scheme {scheme!r} is not one of {', '.join(_SCHEMES)}")
+    if rest.startswith("["):  # [IPv6]:port
+        host, close, port_text = rest[1:].partition("]")
+        if not close or (port_text and not port_text.startswith(":")):
+            raise bad("an IPv6 address is written [ADDRESS]:PORT")
+        port_text = port_text[1:]
+    else:
+        host, _, port_text = rest.partition(":")
+    if port_text and not (port_text.isdigit() and 1 <= int(port_text) <= 65535):
+        raise bad(f"the port {port_text[:20]!r} is not a number in 1..65535")
+    port = int(port_text) if port_text else _DEFAULT_PORT
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        labels = host.rstrip(".").split(".")
+        if not host or len(host) > 253 or not all(_LABEL.fullmatch(label) for label in labels):
+            raise bad(
+                "the host is not a name of letters, digits and hyphens (labels of at most 63, "
+                "253 in all) nor an IP address"
+            ) from None
+        return f"{scheme}://{host}:{port}"
+    shown_host = f"[{address}]" if address.version == 6 else str(address)
+    return f"{scheme}://{shown_host}:{port}"
+
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -175,11 +255,14 @@ def dask_client(
         raise ArgumentError(
             "give workers= (a local cluster) or scheduler= (a running one), not both"
         )
+    if scheduler is not None:
+        scheduler = _reachable(scheduler_address(scheduler))
+    n = _check_local(workers, memory_limit) if scheduler is None else 0
     distributed = _distributed()
     if scheduler is not None:
         try:
             remote = distributed.Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError) as error:
+        except (OSError, TimeoutError, ValueError) as error:
             raise ResourceError(
                 f"cannot reach the Dask scheduler at {scheduler}: {error}"
             ) from None
@@ -188,7 +271,6 @@ def dask_client(
         finally:
             remote.close()
         return
-    n = whole_number(workers, "workers", minimum=1) if workers is not None else _cores()
     import dask
 
     # Dask starts workers with MALLOC_TRIM_THRESHOLD_ set, which also fixes glibc's mmap
@@ -200,21 +282,99 @@ def dask_client(
         for key, value in dask.config.get(_ENVIRON_KEY, {}).items()
         if not key.startswith("MALLOC_")
     }
-    with dask.config.set({_ENVIRON_KEY: environ}):
+    with _signals_held(), dask.config.set({_ENVIRON_KEY: environ}):
         cluster = distributed.LocalCluster(
             n_workers=n,
             threads_per_worker=1,
             processes=True,
             memory_limit=memory_limit if memory_limit is not None else "auto",
-            dashboard_address=None,
+            # Any free port: None means Dask's 8787, and a second cluster on the machine then
+            # prints "Port 8787 is already in use" through the command's warnings.
+            dashboard_address=":0",
             silence_logs=logging.ERROR,
         )
-    local = distributed.Client(cluster)
+        local = distributed.Client(cluster)
     try:
         yield local
     finally:
-        local.close()
-        cluster.close()
+        with _signals_held():
+            local.close()
+            cluster.close()
+
+
+_HELD_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ctrl-C, SIGTERM and SIGHUP held back while the block runs, then handled as usual.
+
+    A local cluster interrupted while it starts (or stops) is left half made: its workers keep
+    running and Dask's exit handler fails with a long traceback. Held back, the signal is
+    handled once the cluster is whole, by the handler that was in place (the command line's
+    turns it into a clean stop), and the cluster is closed on the way out.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    wanted = [getattr(signal, name) for name in _HELD_SIGNALS if hasattr(signal, name)]
+    previous = {signum: signal.getsignal(signum) for signum in wanted}
+
+    def hold(signum: int, _frame: object) -> None:
+        caught.append(signum)
+
+    for signum in wanted:
+        signal.signal(signum, hold)
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    if caught:
+        handler = previous[caught[0]]
+        if callable(handler):
+            handler(caught[0], None)
+        elif handler == signal.SIG_DFL:
+            signal.raise_signal(caught[0])
+
+
+def _reachable(address: str) -> str:
+    """``address`` if its host name resolves; ResourceError now (not after a long timeout)."""
+    import socket
+
+    host = address.split("://", 1)[1].rsplit(":", 1)[0].strip("[]")
+    try:
+        socket.getaddrinfo(host, None)
+    except (OSError, UnicodeError) as error:
+        raise ResourceError(
+            f"cannot reach the Dask scheduler at {address}: its host does not resolve ({error})"
+        ) from None
+    return address
+
+
+def _check_local(workers: int | None, memory_limit: int | str | None) -> int:
+    """The number of local workers, checked with their memory limit against the machine."""
+    most = max_workers()
+    if workers is None:
+        n = min(_cores(), most)
+    else:
+        n = whole_number(workers, "workers", minimum=1)
+        if n > most:
+            raise ResourceError(
+                f"workers={n:,} is more than this machine runs: at most {most} "
+                f"({WORKERS_PER_CORE} per core on {_cores()} cores, each worker needing about "
+                f"{format_bytes(WORKER_BASE_BYTES)} of the {format_bytes(available_memory())} "
+                "available)"
+            )
+    if isinstance(memory_limit, bool) or (
+        isinstance(memory_limit, int | float) and memory_limit < WORKER_BASE_BYTES
+    ):
+        raise ArgumentError(
+            f"memory_limit={memory_limit!r} bytes per worker is less than a worker needs "
+            f"({format_bytes(WORKER_BASE_BYTES)}); give bytes, e.g. 2_000_000_000 or '2GB'"
+        )
+    return n
 
 
 def _cores() -> int:
@@ -282,6 +442,7 @@ def _index_of(path: str | os.PathLike[str]) -> Path:
             "parallel VTU) or an .xdmf file (XDMF collection of HDF5 pieces)"
         )
     check_target(index)
+    check_target(pieces_dir(index), directory=True)  # a file or a FIFO in the way: now
     return index
 
 
@@ -332,29 +493,6 @@ def _combine(parts: Partitioning, summaries: list[dict[str, Any]]) -> tuple[floa
     return math.fsum(x["area"] for x in m), quality
 
 
-def _commit(folder: Path, index: Path, write_index: Callable[[Path], Any]) -> None:
-    """Put the finished pieces folder and the index in place; old ones go only on success."""
-    target = pieces_dir(index)
-    old = None
-    if target.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=index.parent))
-        os.rmdir(old)
-        os.rename(target, old)
-    try:
-        os.chmod(folder, 0o777 & ~umask())
-        os.rename(folder, target)
-        with atomic_file(index) as temporary:
-            write_index(temporary)
-    except BaseException:
-        if target.exists():
-            shutil.rmtree(target, ignore_errors=True)
-        if old is not None:
-            os.rename(old, target)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
 def refine_to(
     target: Domain | Mesh,
     level: int,
@@ -376,8 +514,10 @@ def refine_to(
         Levels of refinement (>= 1), as :func:`blockmesh.refine`.
     path : str or PathLike
         The index: ``out.pvtu`` (VTU pieces) or ``out.xdmf`` (HDF5 pieces); the pieces go to
-        ``out.pvtu.pieces/`` (``out.xdmf.pieces/``). Written only when every piece is: a
-        failure leaves nothing new.
+        ``out.pvtu.pieces/<8 hex digits>/`` (``out.xdmf.pieces/...``), a new folder at every
+        write. The index is renamed in last (the commit), when every piece is written: a failure
+        or a kill at any step leaves the old index with its pieces, and the next write removes
+        what it left.
     partitions : int, optional
         Number of pieces (default: one per worker).
     client : dask.distributed.Client, optional
@@ -403,10 +543,7 @@ def refine_to(
         n_workers = len(active.scheduler_info().get("workers", {})) or 1
         parts = partition(target, level, partitions if partitions is not None else n_workers)
         _check_workers(parts, active)
-        folder = Path(
-            tempfile.mkdtemp(prefix=f".{pieces_dir(index).name}.", suffix=".tmp", dir=index.parent)
-        )
-        try:
+        with atomic_with_folder(index, pieces_dir(index)) as (index_tmp, folder, generation):
             scattered = active.scatter(parts, broadcast=True, hash=False)
             futures = [
                 active.submit(write_piece_task, scattered, p, str(folder), index.name, pure=False)
@@ -415,7 +552,8 @@ def refine_to(
             summaries = _run_tasks(futures, progress)
             area, quality = _combine(parts, summaries)
             names = [piece_name(index, p) for p in range(parts.n_partitions)]
-            sources = [f"{pieces_dir(index).name}/{name}" for name in names]
+            where = f"{pieces_dir(index).name}/{generation}"
+            sources = [f"{where}/{name}" for name in names]
             meta = {
                 "blockmesh_partitioned": 1,
                 "name": parts.base.name,
@@ -427,15 +565,12 @@ def refine_to(
                 "nodes_total": parts.n_nodes,
             }
             if index.suffix.lower() == ".pvtu":
-                _commit(folder, index, lambda tmp: write_pvtu_index(tmp, sources, meta))
+                write_pvtu_index(index_tmp, sources, meta)
             else:
-                _commit(folder, index, lambda tmp: write_xdmf_index(tmp, sources, summaries, meta))
-        finally:
-            if folder.exists():
-                shutil.rmtree(folder, ignore_errors=True)
+                write_xdmf_index(index_tmp, sources, summaries, meta)
     return PartitionedMesh(
         path=index,
-        pieces=tuple(pieces_dir(index) / name for name in names),
+        pieces=tuple(pieces_dir(index) / generation / name for name in names),
         level=parts.base.level + parts.steps,
         cells=parts.n_cells,
         nodes=parts.n_nodes,
@@ -565,12 +700,23 @@ def gather(path: str | os.PathLike[str]) -> Mesh:
     order and their boundary edges to their places in the whole boundary list: the result equals
     the serial refinement's Mesh. Needs the whole mesh's memory, so it is for meshes that fit.
     """
-    pieces = [read_piece(source) for source in read_pieces(Path(path))]
-    if not pieces:
-        raise ExportError(f"{path} names no pieces")
-    first = pieces[0]
-    if sorted(p.index for p in pieces) != list(range(first.n_pieces)):
-        raise ExportError(f"{path}: the pieces are not 0..{first.n_pieces - 1}")
+    with reading(path) as guard:
+        pieces = [read_piece(source) for source in read_pieces(Path(path))]
+        if not pieces:
+            raise ExportError(f"{path} names no pieces")
+        first = pieces[0]
+        if sorted(p.index for p in pieces) != list(range(first.n_pieces)) or any(
+            (p.n_nodes_total, p.n_boundary_total, p.n_cells_total)
+            != (first.n_nodes_total, first.n_boundary_total, first.n_cells_total)
+            for p in pieces
+        ):
+            raise ExportError(
+                f"{path}: the pieces are not 0..{first.n_pieces - 1} of one mesh (an interrupted "
+                "copy? write the mesh again)"
+            )
+        if sum(p.mesh.n_cells for p in pieces) != first.n_cells_total:
+            raise ExportError(f"{path}: the pieces do not add up to the mesh's cells")
+        guard.allocate(17 * first.n_nodes_total + 24 * first.n_boundary_total, "the gathered mesh")
     pieces.sort(key=lambda p: p.index)
     points = np.empty((first.n_nodes_total, 2))
     seen = np.zeros(first.n_nodes_total, dtype=bool)

@@ -2,10 +2,11 @@
 
 Layout, for an index ``out.pvtu`` (or ``out.xdmf``)::
 
-    out.pvtu                       the index: ParaView's parallel VTU, one <Piece> per partition
-    out.pvtu.pieces/out_0000.vtu   partition 0, ...
-    out.xdmf                       or an XDMF spatial collection, with
-    out.xdmf.pieces/out_0000.h5    its HDF5 pieces
+    out.pvtu                                the index: ParaView's parallel VTU, one <Piece> per
+                                            partition
+    out.pvtu.pieces/1a2b3c4d/out_0000.vtu   partition 0, ... (a folder of its own per write)
+    out.xdmf                                or an XDMF spatial collection, with
+    out.xdmf.pieces/1a2b3c4d/out_0000.h5    its HDF5 pieces
 
 **VTU pieces** are VTK XML unstructured grids with raw appended binary data (``header_type
 UInt64``, little endian), written array by array in bounded chunks: polygon cells followed by the
@@ -40,6 +41,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -48,8 +50,16 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from blockmesh._system.bounded import (
+    check_regular,
+    confined,
+    current_guard,
+    open_regular,
+    parse_xml,
+)
 from blockmesh.distributed.pieces import Piece
 from blockmesh.errors import ExportError
+from blockmesh.io.xdmf.format import HeavyData
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
@@ -365,30 +375,87 @@ def write_xdmf_index(
 
 # ------------------------------------------------------------------------------ reading back
 def _vtu_arrays(path: Path) -> tuple[dict[str, Any], dict[str, np.ndarray], int, int]:
-    """The metadata, every named array, and the point and cell counts of a VTU piece."""
-    raw = path.read_bytes()
+    """The metadata, every named array, and the point and cell counts of a VTU piece.
+
+    Every offset and length is checked against the file before its array is taken.
+    """
+    where = str(path)
+    with open_regular(path) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        current_guard(where).allocate(size, "the piece")
+        raw = handle.read()
     marker = raw.find(b'<AppendedData encoding="raw">')
     start = raw.find(b"_", marker) + 1
     if marker < 0 or start <= 0:
         raise ExportError(f"{path} is not a blockmesh VTU piece (no raw appended data)")
-    root = ET.fromstring(raw[:marker].decode("utf-8") + "</VTKFile>")
+    root = parse_xml(raw[:marker] + b"</VTKFile>", where)
     piece = root.find("UnstructuredGrid/Piece")
     field = root.find("UnstructuredGrid/FieldData/DataArray[@Name='blockmesh']")
     if piece is None or field is None or field.text is None:
         raise ExportError(f"{path} is not a blockmesh VTU piece")
-    meta = json.loads(bytes(int(v) for v in field.text.split()).decode("utf-8"))
+    try:
+        meta = json.loads(bytes(int(v) for v in field.text.split()).decode("utf-8"))
+    except (ValueError, UnicodeDecodeError) as error:
+        raise ExportError(f"{path}: the blockmesh field data is not JSON ({error})") from None
     dtypes = {name: dtype for dtype, name in _TYPES.items()}
     arrays: dict[str, np.ndarray] = {}
     for element in piece.iter("DataArray"):
-        offset = start + int(element.get("offset", "0"))
+        name = element.get("Name") or "Points"
+        text = element.get("offset", "0")
+        dtype = dtypes.get(element.get("type", ""))
+        if not text.isdigit() or dtype is None:
+            raise ExportError(f"{path}: the array {name!r:.60} has no offset or a type of its own")
+        offset = start + int(text)
+        if offset + 8 > len(raw):
+            raise ExportError(f"{path}: the array {name!r:.60} starts past the end of the file")
         nbytes = int(np.frombuffer(raw, dtype=np.uint64, count=1, offset=offset)[0])
-        dtype = dtypes[element.get("type", "")]
+        if nbytes > len(raw) - offset - 8 or nbytes % dtype.itemsize:
+            raise ExportError(
+                f"{path}: the array {name!r:.60} announces {nbytes:,} bytes, past the end of the "
+                "file (damaged or truncated)"
+            )
         values = np.frombuffer(raw, dtype=dtype, count=nbytes // dtype.itemsize, offset=offset + 8)
-        arrays[element.get("Name") or "Points"] = values
-    return meta, arrays, int(piece.get("NumberOfPoints", 0)), int(piece.get("NumberOfCells", 0))
+        arrays[name] = values
+    counts = (piece.get("NumberOfPoints", "0"), piece.get("NumberOfCells", "0"))
+    if not all(c.isdigit() and len(c) < 19 for c in counts):
+        raise ExportError(f"{path}: the piece's counts {counts} are not whole numbers")
+    return meta, arrays, int(counts[0]), int(counts[1])
+
+
+#: The piece metadata that are counts, and what each counts.
+_COUNTS = ("piece", "pieces", "first_cell", "cells_total", "nodes_total", "boundary_total")
 
 
 def _piece_from_arrays(meta: dict[str, Any], a: dict[str, np.ndarray], where: str) -> Piece:
+    if not isinstance(meta, dict) or not all(
+        isinstance(meta.get(key), int) and not isinstance(meta.get(key), bool)
+        and 0 <= meta[key] < 2**62
+        for key in (*_COUNTS, "level")
+    ):  # fmt: skip
+        raise ExportError(f"{where} is not a complete blockmesh piece: its counts are not whole")
+    n_nodes, n_boundary = meta["nodes_total"], meta["boundary_total"]
+    try:
+        ids = np.asarray(a["global_node_ids"], dtype=np.int64)
+        order = np.asarray(a["order"], dtype=np.int64)
+        cells = np.asarray(a["cells"], dtype=np.int64).reshape(-1, 5)
+        edges = np.asarray(a["edges"], dtype=np.int64).reshape(-1, 2)
+        points = np.asarray(a["points"], dtype=np.float64).reshape(-1, 2)
+    except (KeyError, ValueError, TypeError) as error:
+        raise ExportError(f"{where} is not a complete blockmesh piece: {error}") from None
+    n = points.shape[0]
+    if (
+        ids.size != n
+        or (ids.size and (ids.min() < 0 or ids.max() >= n_nodes))
+        or (order.size and (order.min() < 0 or order.max() >= n_boundary))
+        or order.size != edges.shape[0]
+        or (cells.size and (cells.min() < 0 or cells.max() >= n))
+        or (edges.size and (edges.min() < 0 or edges.max() >= n))
+        or meta["piece"] >= meta["pieces"]
+    ):
+        raise ExportError(
+            f"{where} is not a consistent blockmesh piece: node ids, cells, boundary lines or the "
+            "piece number are out of range"
+        )
     try:
         mesh = Mesh._trusted(
             points=np.asarray(a["points"], dtype=np.float64).reshape(-1, 2),
@@ -422,11 +489,10 @@ def _piece_from_arrays(meta: dict[str, Any], a: dict[str, np.ndarray], where: st
 def read_piece(path: Path) -> Piece:
     """Read a piece written by :func:`write_vtu_piece` or :func:`write_h5_piece`."""
     path = Path(path)
+    check_regular(path)
     if path.suffix.lower() == ".h5":
-        import h5py
-
-        with h5py.File(path, "r") as f:
-            meta = json.loads(f.attrs["blockmesh"])
+        heavy = HeavyData(path.parent, str(path), None)
+        try:
             names = {
                 "points": "mesh/points",
                 "cells": "mesh/cells",
@@ -437,9 +503,20 @@ def read_piece(path: Path) -> Piece:
                 "order": "boundary/order",
                 **{name: f"mesh/{name}" for name in _CELL_DATA},
             }
-            arrays = {key: f[dataset][()] for key, dataset in names.items()}
+            arrays = {key: heavy.dataset(f"{path.name}:{item}") for key, item in names.items()}
+            raw_meta = heavy.metadata(next(iter(heavy.files)))
+        finally:
+            heavy.close()
+        try:
+            meta = json.loads(raw_meta or "")
+        except ValueError as error:
+            raise ExportError(f"{path}: no blockmesh metadata ({error})") from None
         return _piece_from_arrays(meta, arrays, str(path))
     meta, raw, _, n_cells = _vtu_arrays(path)
+    missing = {"types", "connectivity", "Points", "GlobalNodeIds", "vtkGhostType"} - set(raw)
+    missing |= {"patch", "boundary_order", *_CELL_DATA} - set(raw)
+    if missing:
+        raise ExportError(f"{path} is not a blockmesh VTU piece: no {', '.join(sorted(missing))}")
     m = int(np.count_nonzero(raw["types"] == _VTK_POLYGON))
     connectivity = raw["connectivity"]
     arrays = {
@@ -458,16 +535,19 @@ def read_piece(path: Path) -> Piece:
 def read_pieces(index: Path) -> list[Path]:
     """The piece files an index (``.pvtu`` or ``.xdmf``) names, in order."""
     index = Path(index)
-    try:
-        root = ET.parse(index).getroot()
-    except (OSError, ET.ParseError) as error:
-        raise ExportError(f"cannot read {index}: {error}") from None
+    where = str(index)
+    with open_regular(index) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        current_guard(where).allocate(8 * size, "the index's XML tree")
+        root = parse_xml(handle.read(), where)
     if index.suffix.lower() == ".pvtu":
         sources = [p.get("Source", "") for p in root.iter("Piece")]
     else:
         sources = []
+        seen: set[str] = set()
         for item in root.iter("DataItem"):
             source = (item.text or "").strip().partition(":")[0]
-            if source and source not in sources:
+            if source and source not in seen:
+                seen.add(source)
                 sources.append(source)
-    return [index.parent / source for source in sources]
+    return [confined(index.parent, source, where, "piece") for source in sources]

@@ -44,10 +44,12 @@ from blockmesh.refinement.plan import RefinementPlan, plan_refinement
 if TYPE_CHECKING:
     from blockmesh.domain.domain import Domain
 
-__all__ = ["MAX_TASK_STEPS", "Partitioning", "partition"]
+__all__ = ["MAX_PARTITIONS", "MAX_TASK_STEPS", "Partitioning", "partition"]
 
 #: Levels one task refines its units at most (the template of 7 levels is about 17 MB).
 MAX_TASK_STEPS = 7
+#: Most partitions of one mesh (each is a task, a file and a piece of the index).
+MAX_PARTITIONS = 10_000
 #: The largest partition may hold this many times the cells of the smallest.
 _BALANCE = 1.25
 
@@ -158,7 +160,7 @@ def partition(target: Domain | Mesh | PolygonMesh, level: int, partitions: int) 
             "blockmesh.integrate without partitions"
         )
     level = whole_number(level, "level")
-    partitions = whole_number(partitions, "partitions", minimum=1)
+    partitions = whole_number(partitions, "partitions", minimum=1, maximum=MAX_PARTITIONS)
     coarse = target if isinstance(target, Mesh) else target.block_mesh()
     if coarse.interface_names:
         warnings.warn(

@@ -34,7 +34,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from blockmesh.curves.types import Arc, Curve, as_point
-from blockmesh.domain.validate import parse_points
+from blockmesh.decompose.polygon import check_corner_count
+from blockmesh.domain.validate import MAX_COORDINATE, MIN_EXTENT, parse_points
 from blockmesh.errors import DomainError, DomainFormatError, fmt_point
 
 if TYPE_CHECKING:
@@ -93,9 +94,20 @@ def _circle_fields(circle: object, what: str) -> tuple[tuple[float, float], floa
     centre = as_point(circle["center"], f"{what}'s center")
     radius = circle["radius"]
     if isinstance(radius, bool) or not isinstance(radius, numbers.Real):
-        raise DomainFormatError(f"{what}'s radius must be a number, got {radius!r}")
-    if not (math.isfinite(float(radius)) and float(radius) > 0):
-        raise DomainError(f"{what}'s radius must be a finite number > 0, got {radius!r}")
+        raise DomainFormatError(f"{what}'s radius must be a number, got {radius!r:.60}")
+    try:
+        size = float(radius)
+    except OverflowError:
+        size = math.inf
+    if not (math.isfinite(size) and size > 0):
+        raise DomainError(f"{what}'s radius must be a finite number > 0, got {radius!r:.60}")
+
+    if max(abs(centre[0]), abs(centre[1])) + size > MAX_COORDINATE or size < MIN_EXTENT:
+        raise DomainError(
+            f"{what} (center {centre}, radius {size:g}) reaches beyond {MAX_COORDINATE:g} or is "
+            f"smaller than {MIN_EXTENT:g}: coordinates must stay within {MAX_COORDINATE:g} and "
+            f"a domain span at least {MIN_EXTENT:g} (change units)"
+        )
     sides = circle.get("sides", CIRCLE_SIDES)
     if (
         isinstance(sides, bool)
@@ -143,6 +155,14 @@ def curved_polygon(
     if circles is not None:
         if isinstance(circles, Mapping | str) or not isinstance(circles, Iterable):
             raise DomainFormatError("circles must be a list of tables (one per circular hole)")
+
+        circles = list(circles)
+
+        def sides_of(circle: object) -> int:
+            sides = circle.get("sides") if isinstance(circle, Mapping) else None
+            return sides if isinstance(sides, int) and 3 <= sides <= 64 else CIRCLE_SIDES
+
+        check_corner_count(sum(len(r) for r in rings) + sum(sides_of(c) for c in circles))
         for k, circle in enumerate(circles):
             centre, radius, sides, patch = _circle_fields(circle, f"circle {k}")
             ring = len(rings)
@@ -248,7 +268,8 @@ def _check_curves_apart(
             meeting = meeting.difference(shapely.Point(corner).buffer(tol))
             if meeting.is_empty:
                 continue
-        where = shapely.get_coordinates(meeting)[0]
+        met = shapely.get_coordinates(meeting)
+        where = met[0] if met.size else rings[ri][ei]
         one = _edge_label(ri, ei, n_given, (ri, ei) in curves)
         two = _edge_label(rj, ej, n_given, (rj, ej) in curves)
         hint = (

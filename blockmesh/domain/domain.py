@@ -35,6 +35,7 @@ from blockmesh.curves.edges import area_corrections
 from blockmesh.curves.types import Curve
 from blockmesh.decompose import decompose_polygon
 from blockmesh.decompose.conversion import convert_elements, read_element_mesh
+from blockmesh.decompose.polygon import check_corner_count
 from blockmesh.domain.compose import compose_parts
 from blockmesh.domain.curve_checks import (
     CHECK_LEVELS,
@@ -497,6 +498,8 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
+        holes = hole_list(holes) if holes is not None else []
+        check_corner_count(sum(len(r) if hasattr(r, "__len__") else 0 for r in (coords, *holes)))
         if size is not None:
             unsized = cls.from_polygon(
                 coords, holes, name=name, patches=patches, description=description, arcs=arcs,
@@ -1088,9 +1091,14 @@ def _source_table(raw: Any) -> dict[tuple[int, int], tuple[int, int]] | None:
         return None
     table = {}
     for k, row in enumerate(raw):
-        if not isinstance(row, list) or len(row) != 4 or not all(_whole(v) for v in row):
+        if (
+            not isinstance(row, list)
+            or len(row) != 4
+            or not all(_whole(v) and -1 <= int(v) < 2**62 for v in row)
+        ):
             raise DomainFormatError(
-                f"boundary_source row {k} is {row!r}: each row is [a, b, ring, edge], whole numbers"
+                f"boundary_source row {k} is {row!r:.80}: each row is [a, b, ring, edge], whole "
+                "numbers of at least -1"
             )
         table[(int(row[0]), int(row[1]))] = (int(row[2]), int(row[3]))
     return table

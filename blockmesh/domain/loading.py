@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh.decompose.polygon import check_corner_count, check_file_corners
 from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 from blockmesh.domain.compose import compose_parts
 from blockmesh.domain.domain import Domain
@@ -88,6 +89,7 @@ def parse_polygon_string(text: str, *, what: str = "polygon") -> np.ndarray:
     blockmesh.errors.DomainFormatError: polygon: token 2 '1;0' is not a pair 'x,y' of numbers ...
     """
     tokens = text.split()
+    check_corner_count(len(tokens), f"the {what}")  # counted before the numbers are parsed
     points = []
     for k, token in enumerate(tokens, start=1):
         parts = token.split(",")
@@ -182,6 +184,7 @@ def _from_wkt(path: Path, patches: Mapping[str, Iterable[int | str]] | None = No
     import shapely
 
     text = read_text_bounded(path, what="WKT file")
+    check_file_corners(text.count(",") + 1, path, "comma")  # counted before parsing
     lines = [
         line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
     ]
@@ -237,10 +240,13 @@ def _from_geojson(path: Path, extra: Mapping[str, Iterable[int | str]] | None = 
     import shapely.geometry
 
     text = read_text_bounded(path, what="GeoJSON file")
+    check_file_corners(text.count("["), path, "bracket")  # counted before parsing
     try:
-        document = json.loads(text)
+        document = json.loads(text, parse_int=_json_int, parse_constant=_json_constant)
     except (json.JSONDecodeError, RecursionError) as error:
         raise DomainFormatError(f"{path}: not JSON ({error})") from None
+    except ValueError as error:  # a number the hooks refused
+        raise DomainFormatError(f"{path}: {error}") from None
     if _is_composite(document):
         if extra:
             count = len(document["features"])
@@ -253,8 +259,11 @@ def _from_geojson(path: Path, extra: Mapping[str, Iterable[int | str]] | None = 
     geometry = feature.get("geometry")
     if not isinstance(geometry, dict) or "type" not in geometry:
         raise DomainFormatError(f"{path}: the feature has no geometry object")
+    flat = _flat(geometry)
+
+    check_corner_count(_positions(flat.get("coordinates")), f"{path}: the polygon")
     try:
-        shape = shapely.geometry.shape(_flat(geometry))
+        shape = shapely.geometry.shape(flat)
     except (shapely.errors.ShapelyError, ValueError, TypeError, KeyError, IndexError) as error:
         raise DomainFormatError(f"{path}: the geometry cannot be read ({error})") from None
     name = properties.get("name", path.stem)
@@ -273,6 +282,35 @@ def _from_geojson(path: Path, extra: Mapping[str, Iterable[int | str]] | None = 
             _one_polygon(shape, path), name=name, patches=patches, description=description
         ),
     )
+
+
+#: Most digits of a JSON integer (a coordinate beyond them is no coordinate).
+_JSON_DIGITS = 30
+
+
+def _json_int(text: str) -> int:
+    if len(text.lstrip("-")) > _JSON_DIGITS:
+        raise ValueError(
+            f"an integer of {len(text.lstrip('-'))} digits; numbers have at most {_JSON_DIGITS}"
+        )
+    return int(text)
+
+
+def _json_constant(text: str) -> float:
+    raise ValueError(f"{text} is not a number JSON allows; coordinates must be finite numbers")
+
+
+def _positions(coordinates: Any) -> int:
+    """The number of [x, y] positions in nested GeoJSON coordinates (without recursing deep)."""
+    count, stack = 0, [coordinates]
+    while stack:
+        value = stack.pop()
+        if isinstance(value, list):
+            if value and all(isinstance(v, int | float) for v in value):
+                count += 1
+            else:
+                stack.extend(value)
+    return count
 
 
 def _is_composite(document: Any) -> bool:

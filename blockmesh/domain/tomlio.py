@@ -74,6 +74,7 @@ from typing import Any
 import numpy as np
 
 from blockmesh.curves.types import CURVE_KINDS, curve_from_fields
+from blockmesh.decompose.polygon import MAX_CORNERS, MAX_FILE_CORNERS
 from blockmesh.errors import DomainFormatError
 
 __all__ = [
@@ -193,17 +194,29 @@ def read_domain_file(path: str | Path) -> dict[str, Any]:
     return raw
 
 
+#: A top-level key at the start of a line (``polygon =``), for counting the corners it holds.
+_KEY = re.compile(r"""[ \t]*("[^"\n]*"|'[^'\n]*'|[A-Za-z0-9_-]+)[ \t]*=""")
+#: The keys whose numbers are polygon corners (two each), counted while scanning.
+_CORNER_KEYS = frozenset({"polygon", "holes"})
+
+
 def _check_limits(text: str, source: str) -> None:
-    """Nesting depth and integer size, checked before the TOML parser sees the text.
+    """Nesting depth, integer size and polygon corners, checked before the TOML parser runs.
 
     A small scanner that skips strings and comments: ``[`` and ``{`` in values open a level (a
     ``[table]`` header at the start of a line is not a value); digits runs outside strings are
-    numbers.
+    numbers. The numbers of ``polygon`` and ``holes`` are counted as they are met, per table (a
+    composite domain's ``[[parts]]`` each have their own polygon): more than twice
+    :data:`~blockmesh.decompose.polygon.MAX_CORNERS` in one table, or twice
+    :data:`~blockmesh.decompose.polygon.MAX_FILE_CORNERS` in the file, is refused at once,
+    before the parser or the geometry sees them.
     """
     depth = 0
     line, column = 1, 0
     i, n = 0, len(text)
     at_line_start = True
+    key = ""
+    corner_numbers = file_numbers = 0  # of the polygon being read, of the whole file
     while i < n:
         c = text[i]
         if c == "\n":
@@ -233,6 +246,10 @@ def _check_limits(text: str, source: str) -> None:
             i = j + len(quote)
             at_line_start = False
             continue
+        if at_line_start and depth == 0 and c not in "[{":
+            found = _KEY.match(text, i)
+            if found is not None:
+                key = found[1].strip("\"'")
         if c in "[{" and not (at_line_start and c == "[" and depth == 0):
             depth += 1
             if depth > MAX_NESTING:
@@ -251,11 +268,27 @@ def _check_limits(text: str, source: str) -> None:
                     f"{source}: the integer at line {line}, column {column} has {digits} digits; "
                     f"numbers in a domain file have at most {MAX_DIGITS}"
                 )
+            if key in _CORNER_KEYS and depth:
+                corner_numbers += 1
+                file_numbers += 1
+                if corner_numbers > 2 * MAX_CORNERS or file_numbers > 2 * MAX_FILE_CORNERS:
+                    most, what = (
+                        (MAX_CORNERS, "the polygon and its holes")
+                        if corner_numbers > 2 * MAX_CORNERS
+                        else (MAX_FILE_CORNERS, "the polygons of the file")
+                    )
+                    raise DomainFormatError(
+                        f"{source}: {what} have more than {most:,} corners (counted up to line "
+                        f"{line}); a polygon of at most {MAX_CORNERS:,} is decomposed in seconds, "
+                        f"a file holds at most {MAX_FILE_CORNERS:,} (simplify the outline, or "
+                        "split the domain into parts)"
+                    )
             i += len(token)
             column += len(token) - 1
             at_line_start = False
             continue
-        if c == "[" and at_line_start and depth == 0:
+        if c == "[" and at_line_start and depth == 0:  # a table header: a part of its own
+            corner_numbers, key = 0, ""
             stop = text.find("\n", i)
             i = n if stop < 0 else stop
             continue

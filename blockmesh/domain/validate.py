@@ -37,6 +37,7 @@ from blockmesh.errors import (
 )
 from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,
+    MAX_COORDINATE,
     LocalFrame,
     corner_sines,
     interior_angles,
@@ -50,6 +51,7 @@ __all__ = [
     "DEFAULT_REGION",
     "GAP_TOL",
     "MAX_COORDINATE",
+    "MIN_EXTENT",
     "NEAR_TOL",
     "Ring",
     "check_block_shapes",
@@ -75,8 +77,9 @@ GAP_TOL = 1e-11
 #: Separate boundary loops (or rings) closer than this, relative to the domain's size, are taken
 #: for a gap between blocks that should meet (or rings that touch).
 NEAR_TOL = 1e-6
-#: Largest coordinate magnitude accepted: squares of coordinate differences must stay finite.
-MAX_COORDINATE = 1e150
+#: Smallest span of a domain's coordinates accepted: its areas (squares of spans, and smaller
+#: still at high levels) must not underflow to zero.
+MIN_EXTENT = 1e-100
 #: Most problems listed in one message.
 _MAX_LISTED = 8
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
@@ -168,6 +171,13 @@ def _checked_values(points: np.ndarray, what: str) -> np.ndarray:
             for i in huge
         ],
     )
+    if points.shape[0] >= 3:
+        span = float(np.max(np.ptp(points, axis=0)))
+        if 0 < span < MIN_EXTENT:
+            raise DomainError(
+                f"the {what} coordinates span only {span:.3g}: below {MIN_EXTENT:g} areas and "
+                "angles underflow in double precision (to 0); scale the domain up (change units)"
+            )
     return points
 
 
@@ -758,22 +768,52 @@ def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
     )
 
 
+#: Boundary edges queried for their neighbours at a time (bounds the work before the cap).
+_CONTACT_CHUNK = 256
+
+
 def _contact_pairs(
     local: np.ndarray, start: np.ndarray, stop: np.ndarray, distance: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Pairs of boundary edges within ``distance`` that share no vertex; and the segments."""
+    """Pairs of boundary edges within ``distance`` that share no vertex; and the segments.
+
+    Queried a chunk of edges at a time: more than about 64 pairs per edge means that
+    features far smaller than the domain crowd together (a spike millions of times longer than
+    the rest), which no check separates: a DomainError then, not hours of pairs.
+    """
     segments = shapely.linestrings(np.stack([local[start], local[stop]], axis=1))
-    first, second = shapely.STRtree(segments).query(
-        segments, predicate="dwithin", distance=distance
+    tree = shapely.STRtree(segments)
+    cap = 64 * segments.size + 10_000
+    firsts, seconds, found = [], [], 0
+    for low in range(0, segments.size, _CONTACT_CHUNK):
+        first, second = tree.query(
+            segments[low : low + _CONTACT_CHUNK], predicate="dwithin", distance=distance
+        )
+        first = first + low
+        found += first.size
+        if found > cap:
+            where = fmt_point(local[start[first[0]]])
+            raise DomainError(
+                f"more than {cap:,} pairs of boundary edges come within {distance:g} of the "
+                f"domain's size of each other (near {where} in units of that size): features "
+                "this small for the domain's size cannot be checked apart; simplify the outline "
+                "or mesh the small part on its own"
+            )
+        apart = (
+            (first < second)
+            & (start[first] != start[second])
+            & (start[first] != stop[second])
+            & (stop[first] != start[second])
+            & (stop[first] != stop[second])
+        )
+        firsts.append(first[apart])
+        seconds.append(second[apart])
+    empty = np.empty(0, dtype=np.int64)
+    return (
+        np.concatenate(firsts) if firsts else empty,
+        np.concatenate(seconds) if seconds else empty,
+        segments,
     )
-    apart = (
-        (first < second)
-        & (start[first] != start[second])
-        & (start[first] != stop[second])
-        & (stop[first] != start[second])
-        & (stop[first] != stop[second])
-    )
-    return first[apart], second[apart], segments
 
 
 def _check_contacts(

@@ -25,6 +25,7 @@ import numpy as np
 __all__ = [
     "COLLINEAR_SIN_TOL",
     "DIRECTIONS",
+    "MAX_COORDINATE",
     "LocalFrame",
     "corner_sines",
     "edges_facing",
@@ -41,6 +42,9 @@ __all__ = [
 #: they sit, and are accurate to about 1e-16; so 1e-12 separates a real corner from round-off
 #: while letting slivers of aspect ratio up to about 1e10 count as proper corners.
 COLLINEAR_SIN_TOL = 1e-12
+#: Largest coordinate magnitude accepted from any input (domains and mesh files): squares of
+#: coordinate differences must stay finite.
+MAX_COORDINATE = 1e150
 
 
 class LocalFrame(NamedTuple):

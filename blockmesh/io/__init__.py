@@ -46,10 +46,13 @@ from __future__ import annotations
 import functools
 import importlib
 import os
+import stat
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from blockmesh._system.atomic import as_path
+from blockmesh._system.bounded import check_regular, file_kind, reading
+from blockmesh.checks import whole_number
 from blockmesh.errors import BlockMeshError, ExportError
 from blockmesh.io.common import Format, check_mesh
 from blockmesh.io.split import SPLITS, SplitBoundary, SplitCells, split_boundary, split_cells
@@ -264,17 +267,27 @@ def write(
     return fmt.writer(mesh, Path(path), **kwargs)
 
 
-def read(path: str | os.PathLike[str], *, format: str | None = None) -> Mesh | PolygonMesh:
+def read(
+    path: str | os.PathLike[str], *, format: str | None = None, max_memory: int | None = None
+) -> Mesh | PolygonMesh:
     """Read a mesh written by :func:`write` (format from ``format`` or the path).
 
     A file of polygon cells (a PolygonMesh written, or cells that are not all pentagons) is
     read as a :class:`~blockmesh.mesh.polygons.PolygonMesh`, anything else as a Mesh.
 
+    Files are read within bounds (:mod:`blockmesh._system.bounded`): only regular files are
+    opened (an OpenFOAM case is a folder of them), every size a file declares is checked against
+    the file and against ``max_memory`` (bytes; default: the memory available now) before
+    anything is allocated, and compressed data never expands past what it declares.
+
     Raises
     ------
     ExportError
-        Unknown format, a missing path, or a file that does not hold a pentagon mesh (or, for
-        the formats of several files, files that do not belong together).
+        Unknown format, a missing path, a FIFO, device or socket, or a file that does not hold a
+        pentagon mesh (or, for the formats of several files, files that do not belong
+        together), naming the file, the part of it and the value.
+    ResourceError
+        When reading would need more memory than ``max_memory``.
 
     Examples
     --------
@@ -285,8 +298,23 @@ def read(path: str | os.PathLike[str], *, format: str | None = None) -> Mesh | P
     """
     p = as_path(path)
     fmt = format_for_path(p, format)
-    if not p.exists():
-        raise ExportError(f"cannot read {p}: it does not exist")
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    try:
+        mode = os.stat(p).st_mode
+    except FileNotFoundError:
+        raise ExportError(f"cannot read {p}: it does not exist") from None
+    except OSError as error:
+        raise ExportError(f"cannot read {p}: {error.strerror or error}") from None
+    if fmt.directory:
+        if not stat.S_ISDIR(mode):
+            raise ExportError(
+                f"cannot read {p}: it is {file_kind(mode)}; an OpenFOAM mesh is a folder (the "
+                "case, its constant folder or its polyMesh)"
+            )
+    else:
+        check_regular(p)
     if fmt.reader is None:
         raise ExportError(f"blockmesh cannot read {fmt.name} files")
-    return fmt.reader(p)
+    with reading(p, max_memory=max_memory):
+        return fmt.reader(p)

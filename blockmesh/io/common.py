@@ -24,6 +24,7 @@ import numpy as np
 from blockmesh.curves.edges import CurvedEdges
 from blockmesh.curves.types import curve_from_fields
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ExportError
+from blockmesh.geometry.polygons import MAX_COORDINATE
 from blockmesh.geometry.topology import boundary_of_cells
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -33,6 +34,7 @@ __all__ = [
     "METADATA_VERSION",
     "Format",
     "check_mesh",
+    "check_points",
     "curve_arrays",
     "curves_from_arrays",
     "decode_metadata",
@@ -331,6 +333,54 @@ def _index_array(values: Any, n: int, what: str, where: str) -> np.ndarray:
     return arr.astype(np.int64, copy=False)
 
 
+def _names(value: Any, what: str, where: str) -> tuple[str, ...] | None:
+    """Names read from a file as a tuple of str (None stays None); ExportError otherwise."""
+    if value is None:
+        return None
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, list | tuple) or not all(isinstance(v, str) for v in value):
+        raise ExportError(f"{where}: the {what} are not a list of strings")
+    return tuple(value)
+
+
+def check_points(points: np.ndarray, where: str) -> None:
+    """ExportError naming ``where`` and the first point not finite or beyond MAX_COORDINATE."""
+    fine = np.all(np.abs(points) <= MAX_COORDINATE, axis=1)  # NaN fails too
+    if not np.all(fine):
+        bad = int(np.flatnonzero(~fine)[0])
+        raise ExportError(
+            f"{where}: point {bad} has the coordinates {points[bad].tolist()}: not finite numbers "
+            f"of at most {MAX_COORDINATE:g} in magnitude"
+        )
+
+
+def _level(value: Any, cells: int, where: str, *, polygons: bool = False) -> int:
+    """A stored level, checked: a whole number a mesh of ``cells`` cells can have.
+
+    A uniformly refined mesh of level L has at least ``6**L`` cells; a polygon mesh
+    (``polygons``) at least ``L`` (each round of local refinement splits a cell into 3 or more).
+    """
+    if isinstance(value, np.ndarray) and value.size == 1:
+        value = value.reshape(-1)[0].item()
+    if isinstance(value, float) and value.is_integer() and abs(value) < 2**62:
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ExportError(f"{where}: the stored level {value!r:.40} is not a whole number")
+    level = int(value)
+    most = cells if polygons else 0
+    while not polygons and 6 ** (most + 1) <= cells:
+        most += 1
+    if not 0 <= level <= most:
+        shown = str(level) if len(str(level)) <= 20 else f"of {len(str(abs(level)))} digits"
+        rule = "at least L cells" if polygons else "at least 6^L cells"
+        raise ExportError(
+            f"{where}: the stored level {shown} is impossible for {cells:,} cells (a mesh of level "
+            f"L has {rule}: at most level {most} here)"
+        )
+    return level
+
+
 def _read_only(arr: np.ndarray) -> np.ndarray:
     """``arr`` made read-only: the Mesh takes it over without copying.
 
@@ -358,7 +408,7 @@ def mesh_from_arrays(
     interface_edges: np.ndarray | None = None,
     interface_patch: np.ndarray | None = None,
     interface_names: tuple[str, ...] | list[str] | None = None,
-    level: int = 0,
+    level: Any = 0,
     name: str = "",
     curves: CurvedEdges | None = None,
     dropped_curves: int = 0,
@@ -373,7 +423,12 @@ def mesh_from_arrays(
     are taken over (made read-only), not copied. ``curves`` are the mesh's curved edges (from
     :func:`curves_from_arrays`); without them, ``dropped_curves`` (the count the file's metadata
     records) > 0 warns (:class:`BlockMeshWarning`) that refining the mesh gives straight edges.
+    ``level`` must be a whole number a mesh of these cells can have: ``6**level <= M`` (a block
+    mesh refined ``level`` times has ``6**level`` times its cells); names must be strings;
+    coordinates finite.
     """
+    region_names = _names(region_names, "region names", where)
+    patch_names = _names(patch_names, "patch names", where)
     points = np.asarray(points)
     if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
         raise ExportError(f"{where}: the points have shape {points.shape}, expected (N, 2)")
@@ -422,6 +477,8 @@ def mesh_from_arrays(
         )
     if boundary_edges.size and (boundary_edges.min() < 0 or boundary_edges.max() >= n):
         raise ExportError(f"{where}: boundary edge node ids are out of range (0..{n - 1})")
+    level = _level(level, m, where)
+    check_points(points, where)
     interfaces = interface_arrays(interface_edges, interface_patch, interface_names, n, where)
     try:
         mesh = Mesh(
@@ -464,7 +521,7 @@ def interface_arrays(
     ei = edges.shape[0]
     edges = _index_array(edges, 2 * ei, "interface edges", where).reshape(-1, 2)
     patch = np.zeros(ei, np.int64) if patch is None else _index_array(patch, ei, "interface", where)
-    names = _names_of(patch, names, "interface", where)
+    names = _names_of(patch, _names(names, "interface names", where), "interface", where)
     if edges.min() < 0 or edges.max() >= n:
         raise ExportError(f"{where}: interface edge node ids are out of range (0..{n - 1})")
     return {

@@ -34,11 +34,16 @@ import numpy as np
 
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import edge_keys
+from blockmesh.io.common import check_points
 
 __all__ = ["Merged", "join_lines", "merge_elements", "merge_polygons"]
 
 #: Elements per pentagon of each split.
 _PER_PENTAGON = {"tri3": 3, "tri5": 5, "quad5": 5}
+#: Most elements one pentagon is merged from (the splits make 3 or 5).
+_MOST_ELEMENTS = 8
+#: Most nodes that are no corner along one boundary edge (quad5 puts one there).
+_MOST_INNER = 4
 
 
 class Merged(NamedTuple):
@@ -193,6 +198,13 @@ def _rings(
             f"{where}: the {what} ids of the elements are not 0..{ids.size - 1} (found "
             f"{ids[0]}..{ids[-1]})"
         )
+    per = np.bincount(elem_p, minlength=ids.size)
+    if per.size and per.max() > _MOST_ELEMENTS:
+        worst = int(np.argmax(per))
+        raise ExportError(
+            f"{where}: pentagon {int(ids[worst])} is made of {int(per[worst])} elements; the "
+            f"splits make 3 or 5 (at most {_MOST_ELEMENTS} are merged)"
+        )
     k = conn.shape[1]
     conn = conn.astype(np.int64, copy=False)
     edges = np.stack([conn, np.roll(conn, -1, axis=1)], axis=2).reshape(-1, 2)
@@ -245,6 +257,7 @@ def merge_elements(
     ExportError
         When some pentagon's elements do not merge into one pentagon.
     """
+    check_points(points, where)  # before any arithmetic on them (the corners' turns)
     n = points.shape[0]
     quick = _from_split(conn, pentagon, split) if split else None
     if quick is not None:
@@ -324,7 +337,7 @@ def join_lines(
     order = np.argsort(inner[:, 0])
     src = inner[order, 0]
     end = starts[:, 1].copy()
-    for _ in range(inner.shape[0] + 1):
+    for _ in range(min(inner.shape[0], _MOST_INNER) + 1):
         todo = ~is_corner[end]
         if not todo.any():
             return np.stack([starts[:, 0], end], axis=1), first
@@ -332,4 +345,7 @@ def join_lines(
         if src.size == 0 or np.any(src[pos] != end[todo]):
             raise ExportError(f"{where}: a boundary line ends at a node that no line continues")
         end[todo] = inner[order[pos], 1]
-    raise ExportError(f"{where}: boundary lines form a loop without pentagon corners")
+    raise ExportError(
+        f"{where}: a boundary line runs through more than {_MOST_INNER} nodes that are no "
+        "pentagon corner (or lines form a loop without corners)"
+    )

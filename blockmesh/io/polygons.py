@@ -24,7 +24,7 @@ import numpy as np
 
 from blockmesh.errors import BlockMeshError, ExportError
 from blockmesh.geometry.topology import PolygonCells, boundary_of_cells
-from blockmesh.io.common import interface_arrays
+from blockmesh.io.common import _level, check_points, interface_arrays
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
@@ -72,8 +72,25 @@ def _column(values: Any, m: int, what: str, where: str) -> np.ndarray | None:
     arr = np.asarray(values).reshape(-1)
     if arr.shape[0] != m:
         raise ExportError(f"{where}: {what} has {arr.shape[0]} entries, expected {m}")
-    if arr.dtype.kind not in "iuf" or (arr.dtype.kind == "f" and not np.all(np.isfinite(arr))):
-        raise ExportError(f"{where}: {what} does not hold whole numbers")
+    return _integers(arr, what, where)
+
+
+def _integers(values: Any, what: str, where: str) -> np.ndarray:
+    """``values`` as a flat int64 array; ExportError unless they are whole numbers below 2**62."""
+    try:
+        arr = np.asarray(values).reshape(-1)
+    except (TypeError, ValueError) as error:
+        raise ExportError(f"{where}: {what} is not an array of numbers ({error})") from None
+    if arr.dtype.kind == "f":
+        whole = np.isfinite(arr) & (np.abs(arr) < 2.0**62)
+        whole[whole] = arr[whole] == np.round(arr[whole])
+        if not whole.all():
+            bad = int(np.flatnonzero(~whole)[0])
+            raise ExportError(f"{where}: {what} entry {bad} is {arr[bad]!r}, not a whole number")
+    elif arr.dtype.kind == "u" and arr.size and arr.max() >= 2**62:
+        raise ExportError(f"{where}: {what} holds {arr.max()}, beyond any index")
+    elif arr.dtype.kind not in "iu":
+        raise ExportError(f"{where}: {what} does not hold whole numbers ({arr.dtype})")
     return arr.astype(np.int64)
 
 
@@ -91,7 +108,7 @@ def polygon_mesh_from_arrays(
     boundary_patch: Any = None,
     patch_names: Any = None,
     cell_level: Any = None,
-    level: int = 0,
+    level: Any = 0,
     name: str = "",
     interface_edges: Any = None,
     interface_patch: Any = None,
@@ -108,11 +125,13 @@ def polygon_mesh_from_arrays(
     if points.ndim != 2 or points.shape[1] < 2 or points.dtype.kind not in "iuf":
         raise ExportError(f"{where}: the points have shape {points.shape}, expected (N, 2)")
     points = np.ascontiguousarray(points[:, :2], dtype=np.float64)
-    offsets = np.asarray(offsets, dtype=np.int64).reshape(-1)
-    nodes = np.asarray(nodes, dtype=np.int64).reshape(-1)
+    check_points(points, where)
+    offsets = _integers(offsets, "cell offsets", where)
+    nodes = _integers(nodes, "cell nodes", where)
     m = offsets.size - 1
     if m < 0:
         raise ExportError(f"{where}: no cell offsets")
+    level = _level(level, m, where, polygons=True)
     n = points.shape[0]
     if nodes.size and (nodes.min() < 0 or nodes.max() >= n):
         raise ExportError(
@@ -137,6 +156,11 @@ def polygon_mesh_from_arrays(
     if patch_names is None:
         patch_names = tuple(f"patch_{k}" for k in range(int(patch.max(initial=-1)) + 1))
     levels = _column(cell_level, m, "cell_level", where)
+    if levels is not None and levels.size and not 0 <= levels.min() <= levels.max() <= m:
+        raise ExportError(
+            f"{where}: the cell levels run from {levels.min()} to {levels.max()}: impossible for "
+            f"{m:,} cells (0..{m:,})"
+        )
     interfaces = interface_arrays(interface_edges, interface_patch, interface_names, n, where)
     try:
         return PolygonMesh(

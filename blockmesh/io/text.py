@@ -31,6 +31,7 @@ from typing import BinaryIO, Protocol
 
 import numpy as np
 
+from blockmesh._system.bounded import current_guard
 from blockmesh.errors import ExportError
 from blockmesh.numerics.doubledouble import two_prod
 
@@ -285,7 +286,9 @@ class TextReader:
     ([[1.0, 0.5], [2.0, 1.5]], b'$EndNodes')
     """
 
-    def __init__(self, file: _Readable, where: str, *, chunk: int = 1 << 22) -> None:
+    def __init__(
+        self, file: _Readable, where: str, *, chunk: int = 1 << 22, size: int | None = None
+    ) -> None:
         self.file = file
         self.where = where
         self.chunk = chunk
@@ -293,20 +296,48 @@ class TextReader:
         self._buf = b""
         self._pos = 0
         self._read = 0  # bytes read from the file so far
-        self._size: int | None = None  # unknown for streams (gzip): no size checks then
-        if isinstance(file, io.BufferedReader | io.FileIO):
+        # the bytes the stream can give at most: the file's size, or given (for a gzip stream,
+        # what it may expand to); None: unknown, no size checks
+        self._size: int | None = size
+        if size is None and isinstance(file, io.BufferedReader | io.FileIO):
             with contextlib.suppress(OSError, ValueError):
                 self._size = os.fstat(file.fileno()).st_size
 
     def _more(self) -> bool:
-        """Append the next chunk of the file to the buffer; False at the end of the file."""
-        data = self.file.read(self.chunk)
+        """Append the next chunk of the file to the buffer; False at the end of the file.
+
+        The chunk is at least as long as what is buffered, so a long line is read in O(its
+        length), not O(length^2).
+        """
+        data = self.file.read(max(self.chunk, len(self._buf) - self._pos))
         if not data:
             return False
         self._read += len(data)
         self._buf = self._buf[self._pos :] + data
         self._pos = 0
         return True
+
+    @property
+    def left(self) -> int | None:
+        """Bytes not parsed yet (buffered or not read), or None when the size is unknown."""
+        if self._size is None:
+            return None
+        return self._size - self._read + len(self._buf) - self._pos
+
+    def check_count(self, count: int, what: str, per_item: int = 2) -> int:
+        """``count`` if ``count`` items of at least ``per_item`` bytes fit in what is left.
+
+        ExportError naming the line for a negative count or one the file cannot hold (an
+        announced count is never looped over or allocated before this).
+        """
+        left = self.left
+        if count < 0 or (left is not None and count * per_item > left):
+            room = f"the file has only {left:,} bytes left" if left is not None else "negative"
+            raise ExportError(
+                f"{self.where}, line {self.line_number}: {count:,} {what} are announced, but "
+                f"{room} (damaged?)"
+            )
+        return count
 
     @property
     def at_end(self) -> bool:
@@ -423,12 +454,15 @@ class TextReader:
         spaces = bytes.maketrans(blank, b" " * len(blank)) if blank else None
         width = cols if keep is None else keep
         lead = int(tagged)
-        left = None if self._size is None else self._size - self._read + len(self._buf) - self._pos
-        if rows < 0 or (left is not None and rows * cols * 2 > left + 1):
+        left = self.left
+        if rows < 0 or cols < 1 or (left is not None and rows * cols * 2 > left + 1):
             raise ExportError(
                 f"{self.where}, line {self.line_number}: a table of {rows} lines of {cols} "
                 f"numbers is announced, but the file has only {left} bytes left (damaged?)"
             )
+
+        itemsize = np.dtype(out_dtype or dtype).itemsize
+        current_guard(self.where).allocate(rows * width * itemsize, f"a table of {rows:,} lines")
         try:
             out: np.ndarray = np.empty((rows, width - lead), dtype=out_dtype or dtype)
             lead_column = np.empty(rows, dtype=out.dtype) if tagged else None
@@ -474,6 +508,7 @@ class TextReader:
 
     def skip(self, n_lines: int) -> None:
         """Skip the next ``n_lines`` lines without parsing them."""
+        self.check_count(n_lines, "lines to skip", 1)
         left = n_lines
         while left:
             text = self._take(left)

@@ -37,7 +37,7 @@ import numpy as np
 from blockmesh.checks import choice, whole_number
 from blockmesh.errors import ArgumentError, ArgumentTypeError
 from blockmesh.mesh.mesh import Mesh
-from blockmesh.refinement.pipeline import refine
+from blockmesh.refinement.pipeline import MAX_LEVEL, check_level, refine
 from blockmesh.refinement.placement import (
     PLACEMENTS,
     SIZE_TARGETS,
@@ -225,8 +225,9 @@ def inner_point_rule(
     ...     ).min_angle
     (216, True)
     """
-    level = whole_number(level, "level")
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
     ts = _check_fractions(fractions)
+    check_level(target, level)  # refused now, not after some levels
     mesh = refine(target, 0)
     for _ in range(level):
         child = refine(mesh, 1)

@@ -49,14 +49,19 @@ from blockmesh.refinement.placement import (
 )
 from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
 from blockmesh.refinement.plan import place_level as _place_level
-from blockmesh.refinement.sizes import MeshSize, predict_size
+from blockmesh.refinement.sizes import MeshSize, largest_fitting_level, predict_size
 from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
 from blockmesh.refinement.template import node_count, pentagon_template
 
-__all__ = ["NUMBERINGS", "refine"]
+__all__ = ["MAX_LEVEL", "MAX_SMOOTH", "NUMBERINGS", "check_level", "refine"]
 
 #: Node numberings :func:`refine` offers.
 NUMBERINGS = ("nested", "rcm")
+#: Highest level asked for that is answered with a size estimate (every level multiplies the
+#: cells by 6, so level 30 is beyond any machine already); higher levels are refused outright.
+MAX_LEVEL = 10_000
+#: Most Laplacian sweeps per level (``smooth``): a few cure most of the distortion.
+MAX_SMOOTH = 1_000
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -220,9 +225,9 @@ def refine(
         )
     if level is None:
         raise ArgumentError("refine() needs a level (how many times to split every cell)")
-    level = whole_number(level, "level")
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
     choice(numbering, NUMBERINGS, "numbering")
-    smooth = whole_number(smooth, "smooth")
+    smooth = whole_number(smooth, "smooth", maximum=MAX_SMOOTH)
     placement = as_placement(placement)
     if isinstance(placement, LaplacianSmoothing):
         if smooth not in (0, placement.sweeps):
@@ -429,6 +434,32 @@ def _repeat(values: np.ndarray, count: int) -> np.ndarray:
     return np.repeat(values, count)
 
 
+def check_level(
+    domain_or_mesh: BlockSource | Mesh, level: int, *, max_memory: int | None = None
+) -> None:
+    """Raise now if refining ``domain_or_mesh`` ``level`` times cannot be done.
+
+    The checks :func:`refine` makes before it builds anything: a whole number ``level`` up to
+    :data:`MAX_LEVEL`, a predicted size within ``max_memory`` (default: the memory available),
+    cells that double precision resolves. For callers that refine one level at a time.
+
+    Examples
+    --------
+    >>> import blockmesh
+    >>> check_level(blockmesh.load_domain("sp"), 60)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    blockmesh.errors.ResourceError: level 60 of 'sp' needs about 10^48 B ...
+    """
+    level = whole_number(level, "level", maximum=MAX_LEVEL)
+    if max_memory is not None:
+        max_memory = whole_number(max_memory, "max_memory", minimum=1)
+    base = _block_mesh_of(domain_or_mesh)
+    neighbour = cell_neighbours(base.cells, base.n_points)
+    _check_memory(base, int(np.count_nonzero(neighbour >= 0)) // 2, level, max_memory)
+    _check_precision(base, level)
+
+
 def _check_memory(base: Mesh, n_shared: int, level: int, max_memory: int | None) -> None:
     n_boundary = 5 * base.n_cells - 2 * n_shared
     limit = available_memory() if max_memory is None else int(max_memory)
@@ -441,9 +472,8 @@ def _check_memory(base: Mesh, n_shared: int, level: int, max_memory: int | None)
     wanted = size(level)
     if wanted.peak_bytes <= limit:
         return
-    fits = level - 1
-    while fits >= 0 and size(fits).peak_bytes > limit:
-        fits -= 1
+
+    fits = largest_fitting_level(size, level, limit)  # type: ignore[arg-type]
     source = "the limit given" if max_memory is not None else "the memory available now"
     advice = (
         f"the largest level that fits is {base.level + fits}"

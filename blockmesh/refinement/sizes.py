@@ -204,7 +204,7 @@ def predict_solve_command(
 
     Examples
     --------
-    >>> from blockmesh.refinement import predict_size
+    >>> from blockmesh.refinement.sizes import predict_size
     >>> p = predict_solve_command(predict_size(48, 63, 80, 16, 6, 6), n_blocks=48, baseline=0)
     >>> [name for name, _ in p.stages], p.peak_stage
     (['refinement', 'assembly (poisson)', 'factorisation (direct solver)'], ...)
@@ -354,11 +354,28 @@ def predict_mesh_command(
 def largest_fitting_level(
     predict: Callable[[int], MemoryPrediction], level: int, limit: int
 ) -> int:
-    """The highest level below ``level`` whose predicted peak is within ``limit`` (-1: none)."""
-    fits = level - 1
-    while fits >= 0 and predict(fits).peak_bytes > limit:
-        fits -= 1
-    return fits
+    """The highest level below ``level`` whose predicted peak is within ``limit`` (-1: none).
+
+    A bisection (the peak grows with the level): O(log level) predictions, so an absurd level
+    (``--level 100000``) is answered at once.
+
+    Examples
+    --------
+    >>> from blockmesh.refinement.sizes import predict_size
+    >>> def predict(level):
+    ...     return predict_mesh_command(predict_size(1, 5, 0, 5, level, level), n_blocks=1,
+    ...                                 baseline=10**8)
+    >>> largest_fitting_level(predict, 100_000, 10**9)
+    8
+    """
+    low, high = -1, level - 1  # low fits (or is -1); every level above high is too big
+    while low < high:
+        middle = (low + high + 1) // 2
+        if predict(middle).peak_bytes <= limit:
+            low = middle
+        else:
+            high = middle - 1
+    return low
 
 
 def check_fits(
@@ -402,7 +419,7 @@ def check_fits(
 
 
 def _sizes(target) -> Callable[[int], Any]:
-    """``size(steps)``: the :class:`~blockmesh.refinement.MeshSize` of ``target`` refined."""
+    """``size(steps)``: the :class:`~blockmesh.refinement.sizes.MeshSize` of ``target`` refined."""
     if isinstance(target, Mesh):
         n_boundary = int(target.boundary_edges.shape[0])
         counts = (target.n_cells, target.n_points, (5 * target.n_cells - n_boundary) // 2)

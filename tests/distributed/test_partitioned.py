@@ -156,9 +156,12 @@ def test_a_partition_too_big_for_its_worker_is_refused_before_anything_is_writte
 def test_existing_output_is_replaced_only_when_complete(client, catalogue, tmp_path):
     index = tmp_path / "m.pvtu"
     bd.refine_to(catalogue["sp"], 2, index, partitions=2, client=client)
-    first = sorted(p.name for p in pieces_dir(index).iterdir())
+    (first,) = pieces_dir(index).iterdir()
+    names = sorted(p.name for p in first.iterdir())
     bd.refine_to(catalogue["sp"], 3, index, partitions=3, client=client)
-    assert sorted(p.name for p in pieces_dir(index).iterdir()) == [*first, "m_0002.vtu"]
+    (second,) = pieces_dir(index).iterdir()  # the first write's folder is gone
+    assert second != first
+    assert sorted(p.name for p in second.iterdir()) == [*names, "m_0002.vtu"]
     assert bd.gather(index).level == 3
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.pvtu", "m.pvtu.pieces"]
 

@@ -206,7 +206,8 @@ def test_memory_guard_names_the_largest_level_that_fits(catalogue):
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"level": -1}, "level must be a whole number >= 0"),
+        ({"level": -1}, "level must be a whole number in 0..10000, got -1"),
+        ({"level": 10**30}, "level must be a whole number in 0..10000"),
         ({"level": 1.5}, "level must be a whole number"),
         (
             {"level": 1, "numbering": "metis"},

@@ -41,6 +41,9 @@ DEFERRED: dict[tuple[str, str], str] = {
     ("blockmesh.cli", "blockmesh.commands.common"): (
         "start-up: `blockmesh --help` and `--version` import no numerical library"
     ),
+    ("blockmesh.commands._partitions", "blockmesh.distributed"): (
+        "optional extra: Dask is imported only for --partitions / --scheduler"
+    ),
     ("blockmesh.commands.integrate", "blockmesh.distributed"): (
         "optional extra: Dask is imported only for --partitions / --scheduler"
     ),

@@ -6,7 +6,8 @@ data elements (tags, array flags, dimensions, names, and the sizes of the data, 
 skipped, not read) and raises :class:`~blockmesh.errors.ExportError` at the first one that does
 not fit: a size beyond its parent, a data size that disagrees with the dimensions, a cell or
 struct with a wrong number of elements. O(number of data elements); compressed variables are
-decompressed (one at a time) to be walked.
+decompressed (one at a time) to be walked, never past the size they announce, which must be
+within what the file may expand to (:mod:`blockmesh._system.bounded`).
 
 Examples
 --------
@@ -34,6 +35,7 @@ from typing import BinaryIO
 
 import numpy as np
 
+from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 
 __all__ = ["check_mat"]
@@ -158,7 +160,16 @@ def _compressed(f: BinaryIO, size: int, skip: frozenset[bytes]) -> None:
                 return
         except _DamageError:
             pass  # the header did not fit in the first bytes: walk it whole below
-        body = head + unpack.decompress(unpack.unconsumed_tail, 1 << 34) + unpack.flush()
+        announced = 8 + length
+        guard = current_guard()
+        if announced > guard.expansion_allowed - guard.expanded_bytes:
+            raise _DamageError(
+                f"a compressed variable announces {announced:,} bytes, more than the file may "
+                f"expand to ({guard.expansion_allowed:,} bytes: a decompression bomb?)"
+            )
+        rest = unpack.decompress(unpack.unconsumed_tail, max(announced - len(head), 1))
+        body = head + rest
+        guard.expanded(len(body), "a compressed variable")
     except zlib.error as exc:
         raise _DamageError(f"a compressed variable does not decompress ({exc})") from None
     whole = io.BytesIO(body)
@@ -176,7 +187,7 @@ def check_mat(path: Path, *, skip: tuple[str, ...] = ()) -> None:
     where = str(path)
     names = frozenset(n.encode() for n in skip)
     try:
-        with open(path, "rb") as f:
+        with open_regular(path) as f:
             f.seek(0, 2)
             size = f.tell()
             f.seek(128)

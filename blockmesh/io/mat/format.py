@@ -58,7 +58,8 @@ from typing import Any, BinaryIO
 import numpy as np
 
 from blockmesh._system.atomic import atomic_file
-from blockmesh.errors import ExportError
+from blockmesh._system.bounded import current_guard, open_regular
+from blockmesh.errors import ExportError, ResourceError
 from blockmesh.io.common import Format, mesh_from_arrays
 from blockmesh.io.mat.check import check_mat
 from blockmesh.io.names import MATLAB_NAME
@@ -218,8 +219,8 @@ def _chunks(f: BinaryIO, size: int, compressed: bool, step: int = 1 << 22) -> It
 class _Bytes:
     """Exactly ``n`` bytes at a time from a stream of pieces."""
 
-    def __init__(self, pieces: Iterator[bytes]) -> None:
-        self.pieces, self.buf = pieces, bytearray()
+    def __init__(self, pieces: Iterator[bytes], compressed: bool = False) -> None:
+        self.pieces, self.buf, self.compressed = pieces, bytearray(), compressed
 
     def take(self, n: int) -> bytes | None:
         while len(self.buf) < n:
@@ -240,7 +241,8 @@ def _element_cells(path: Path) -> np.ndarray | None:
     memory than the result. None for any other layout (e.g. saved by MATLAB), which
     :func:`scipy.io.loadmat` then reads.
     """
-    with open(path, "rb") as f:
+    guard = current_guard(path)
+    with open_regular(path) as f:
         header = f.read(128)
         if len(header) < 128 or header[126:128] != b"IM":
             return None  # not little-endian v5
@@ -251,14 +253,19 @@ def _element_cells(path: Path) -> np.ndarray | None:
             kind, size = (int(v) for v in np.frombuffer(tag, dtype="<u4"))
             start = f.tell()
             if kind in (_MI_COMPRESSED, _MI_MATRIX):
-                stream = _Bytes(_chunks(f, size, kind == _MI_COMPRESSED))
+                stream = _Bytes(_chunks(f, size, kind == _MI_COMPRESSED), kind == _MI_COMPRESSED)
                 inner = kind
                 if kind == _MI_COMPRESSED:
                     raw = stream.take(8)
                     inner = int(np.frombuffer(raw, dtype="<u4")[0]) if raw else 0
                 head = stream.take(48) if inner == _MI_MATRIX else None
                 if head is not None and _name(head) == b"Element":
-                    return _records(stream, head)
+                    room = (
+                        guard.expansion_allowed - guard.expanded_bytes
+                        if kind == _MI_COMPRESSED
+                        else size
+                    )
+                    return _records(stream, head, room, str(path))
             f.seek(start + size + (-size % 8 if kind == _MI_MATRIX else 0))  # none after zlib
 
 
@@ -271,46 +278,89 @@ def _name(head: bytes) -> bytes | None:
     return head[40 : 40 + length] if length <= 8 else None
 
 
-def _records(stream: _Bytes, head: bytes, chunk: int = 1 << 16) -> np.ndarray | None:
-    """The cells of a cell array of M records of 1 x 5 doubles (None if it is not that)."""
+def _records(
+    stream: _Bytes, head: bytes, room: int, where: str, chunk: int = 1 << 16
+) -> np.ndarray | None:
+    """The cells of a cell array of M records of 1 x 5 doubles (None if it is not that).
+
+    ``room`` is the most bytes the element can hold (its size, or what its compressed data may
+    expand to): M is checked against it, and the cells against the read's memory limit, before
+    they are allocated.
+    """
     flags = np.frombuffer(head[:40], dtype="<u4")
     m, cols = int(flags[6]), int(flags[7])
     if (int(flags[2]) & 0xFF) != _MX_CELL or cols != 1:
         return None
     record, expected = _record(5), np.array(_record_head(5), dtype="<u4")
+    if m * record.itemsize > room:
+        raise ExportError(
+            f"{where}: Element announces {m:,} cells ({m * record.itemsize:,} bytes), more than "
+            f"the file holds ({room:,} bytes; damaged, or made to expand)"
+        )
+    current_guard(where).allocate(40 * m, f"the {m:,} cells of Element")
     cells = np.empty((m, 5), dtype=np.int64)
     for at in range(0, m, chunk):
         n = min(chunk, m - at)
         raw = stream.take(n * record.itemsize)
         if raw is None:
             return None
+        if stream.compressed:
+            current_guard(where).expanded(len(raw), "Element")
         part = np.frombuffer(raw, dtype=record)
         rows = part["data"]
-        if not np.all(part["head"] == expected) or not np.all(rows == np.floor(rows)):
+        with np.errstate(invalid="ignore"):  # NaN compares False: refused below
+            whole = (rows == np.floor(rows)) & (np.abs(rows) < 2.0**62)  # NaN and inf fail
+        if not np.all(part["head"] == expected) or not np.all(whole):
             return None
         cells[at : at + n] = rows
     cells -= 1
     return cells
 
 
+def _numbers(value: Any, name: str, where: str) -> np.ndarray:
+    """The variable ``name`` as float64; ExportError if it does not hold numbers."""
+    array = np.asarray(value)
+    if array.dtype.kind not in "biuf":
+        raise ExportError(f"{where}: {name} holds {array.dtype} values, not numbers")
+    return array.astype(np.float64)
+
+
+def _whole(values: np.ndarray, name: str, where: str) -> np.ndarray:
+    """``values`` as int64; ExportError unless they are whole numbers of int64's range."""
+    if values.size and (
+        not np.all(np.isfinite(values))
+        or np.any(values != np.floor(values))
+        or np.abs(values).max() >= 2**62
+    ):
+        raise ExportError(f"{where}: {name} holds values that are not whole numbers")
+    return values.astype(np.int64)
+
+
+def _rows(values: np.ndarray, width: int, name: str, where: str) -> np.ndarray:
+    """``values`` as rows of ``width`` (a matrix of that width, or its transpose if a vector)."""
+    if values.ndim == 2 and values.shape[1] == width:
+        return values
+    if values.size % width == 0 and values.ndim <= 2 and 1 in values.shape:
+        return values.reshape(-1, width)
+    raise ExportError(f"{where}: {name} has shape {values.shape}, not rows of {width}")
+
+
 def _strings(value: np.ndarray) -> list[str]:
     return [str(np.asarray(v).ravel()[0]) if np.asarray(v).size else "" for v in value.ravel()]
 
 
-def _rows(element: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
+def _element_rows(element: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
     """0-based compressed rows (offsets, nodes) from ``Element`` (a cell array of any rows)."""
     if element.dtype != object:
-        rows = np.asarray(element, dtype=np.float64)
+        rows = _numbers(element, "Element", where)
         rows = rows.reshape(rows.shape[0], -1) if rows.ndim else rows.reshape(0, 0)
         parts = list(rows)
     else:
-        parts = [np.asarray(v, dtype=np.float64).ravel() for v in element.ravel()]
+        parts = [_numbers(v, "Element", where).ravel() for v in element.ravel()]
     sizes = np.array([p.size for p in parts], dtype=np.int64)
     offsets = np.concatenate([[0], np.cumsum(sizes)])
     flat = np.concatenate(parts) if parts else np.empty(0)
-    if not np.all(np.isfinite(flat)) or np.any(flat != np.floor(flat)):
-        raise ExportError(f"{where}: Element holds node ids that are not whole numbers")
-    return offsets, flat.astype(np.int64) - 1
+    return offsets, _whole(flat, "Element", where) - 1
 
 
 def _cells(element: np.ndarray, where: str) -> np.ndarray:
@@ -348,8 +398,9 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
         fast = _element_cells(Path(path))
         check_mat(Path(path), skip=("Element",) if fast is not None else ())
         wanted = None if fast is None else [v for v in _VARIABLES if v != "Element"]
-        data = scipy.io.loadmat(path, squeeze_me=False, variable_names=wanted)
-    except ExportError:
+        with open_regular(path) as handle:
+            data = scipy.io.loadmat(handle, squeeze_me=False, variable_names=wanted)
+    except (ExportError, ResourceError):
         raise
     except Exception as exc:  # scipy raises several kinds for broken files
         raise ExportError(f"cannot read {where} as a MATLAB file: {exc}") from None
@@ -359,7 +410,7 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
     offsets = nodes = np.zeros(0, np.int64)
     cells = np.zeros((0, 5), np.int64)
     if fast is None:
-        offsets, nodes = _rows(data.pop("Element"), where)
+        offsets, nodes = _element_rows(data.pop("Element"), where)
         polygons = polygons or bool(np.any(np.diff(offsets) != 5))
         if not polygons:
             cells = nodes.reshape(-1, 5)
@@ -370,7 +421,9 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
     del fast
 
     def column(name: str, shift: int) -> np.ndarray | None:
-        return None if name not in data else np.asarray(data[name]).ravel().astype(np.int64) - shift
+        if name not in data:
+            return None
+        return _whole(_numbers(data[name], name, where), name, where).ravel() - shift
 
     patch_names = _strings(data["PatchNames"]) if "PatchNames" in data else None
     region_names = _strings(data["RegionNames"]) if "RegionNames" in data else None
@@ -378,14 +431,18 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
     if "BoundaryEdges" in data and patch_names is not None:
         struct = data["BoundaryEdges"]
         fields = struct.dtype.names or ()
-        if len(fields) != len(patch_names):
+        if len(fields) != len(patch_names) or (fields and struct.size != 1):
             raise ExportError(
                 f"{where}: BoundaryEdges has {len(fields)} fields for {len(patch_names)} PatchNames"
             )
-        parts = [np.asarray(struct[0, 0][f], dtype=np.float64).reshape(-1, 2) for f in fields]
-        edges = (np.concatenate(parts) if parts else np.empty((0, 2))).astype(np.int64) - 1
+        parts = [
+            _rows(_numbers(struct.ravel()[0][f], f"BoundaryEdges.{f}", where), 2, f, where)
+            for f in fields
+        ]
+        edges = _whole(np.concatenate(parts) if parts else np.empty((0, 2)), "BoundaryEdges", where)
+        edges -= 1
         patch = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
-    level = int(np.asarray(data["Level"]).ravel()[0]) if "Level" in data else 0
+    level = np.asarray(data["Level"]) if "Level" in data else 0
     common: dict[str, Any] = {
         "where": where,
         "block_id": column("BlockId", 1),
@@ -399,7 +456,7 @@ def read_mat(path: Path) -> Mesh | PolygonMesh:
         "name": _strings(data["Name"])[0] if "Name" in data and data["Name"].size else "",
         **_interfaces(data, where),
     }
-    points = np.asarray(data["Node"], dtype=np.float64)
+    points = _numbers(data["Node"], "Node", where)
     if polygons:
         return polygon_mesh_from_arrays(
             points, offsets, nodes, cell_level=column("CellLevel", 0), **common
@@ -419,8 +476,14 @@ def _interfaces(data: dict, where: str) -> dict[str, Any]:
         raise ExportError(
             f"{where}: InterfaceEdges has {len(fields)} fields for {len(names)} InterfaceNames"
         )
-    parts = [np.asarray(struct[0, 0][f], dtype=np.float64).reshape(-1, 2) for f in fields]
-    edges = (np.concatenate(parts) if parts else np.empty((0, 2))).astype(np.int64) - 1
+    if fields and struct.size != 1:
+        raise ExportError(f"{where}: InterfaceEdges is not one struct ({struct.shape})")
+    parts = [
+        _rows(_numbers(struct.ravel()[0][f], f"InterfaceEdges.{f}", where), 2, f, where)
+        for f in fields
+    ]
+    edges = _whole(np.concatenate(parts) if parts else np.empty((0, 2)), "InterfaceEdges", where)
+    edges -= 1
     return {
         "interface_edges": edges,
         "interface_patch": np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts]),

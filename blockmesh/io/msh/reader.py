@@ -2,6 +2,9 @@
 
 The file is parsed section by section in chunks (:class:`blockmesh.io.text.TextReader`), never
 held whole; the pentagons are rebuilt from their elements by :mod:`blockmesh.io.pentagons`.
+Every count a header announces is checked against what is left of the file before it is looped
+over or allocated, and every malformed header, tag or value is an :class:`ExportError` naming
+the line (see :mod:`blockmesh._system.bounded`).
 
 Examples
 --------
@@ -25,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells, boundary_of_cells, edge_keys
 from blockmesh.io.common import decode_metadata, mesh_from_arrays
@@ -100,6 +104,11 @@ def _ints(text: bytes, r: TextReader, what: str, count: int = 1) -> list[int]:
         values = []
     if len(values) < count:
         raise ExportError(f"{r.where}, line {r.line_number}: malformed {what} {text[:80]!r}")
+    if any(abs(v) >= 2**62 for v in values):  # no tag or count is that large; int64 holds it
+        raise ExportError(
+            f"{r.where}, line {r.line_number}: {what} {text[:80]!r} holds a number beyond any "
+            "tag or count"
+        )
     return values
 
 
@@ -131,6 +140,8 @@ def _entities(body: list[bytes], r: TextReader, first: int) -> dict[tuple[int, i
 
 def _nodes(r: TextReader, f: _File) -> None:
     blocks, total, _, max_tag = _ints(r.line(), r, "$Nodes header", 4)[:4]
+    r.check_count(blocks, "node blocks", 8)
+    r.check_count(total, "nodes", 6)
     tags, coords = [], []
     for _ in range(blocks):
         _dim, _tag, parametric, n = _ints(r.line(), r, "node block header", 4)[:4]
@@ -145,11 +156,12 @@ def _nodes(r: TextReader, f: _File) -> None:
     )
     if node_tags.size != total:
         raise ExportError(f"{r.where}: $Nodes announces {total} nodes but holds {node_tags.size}")
-    f.to_index = _node_index(node_tags)
+    f.to_index = _node_index(node_tags, r.where)
 
 
 def _elements(r: TextReader, f: _File) -> None:
     blocks, _, _, max_tag = _ints(r.line(), r, "$Elements header", 4)[:4]
+    r.check_count(blocks, "element blocks", 8)
     small = (
         np.int32
         if max_tag <= _INT32 and f.coords is not None and f.coords.shape[0] <= _INT32
@@ -180,16 +192,21 @@ def _elements(r: TextReader, f: _File) -> None:
 
 
 def _element_data(r: TextReader, f: _File) -> None:
-    n_str = _ints(r.line(), r, "$ElementData header")[0]
+    n_str = r.check_count(_ints(r.line(), r, "$ElementData header")[0], "string tags")
     strings = [r.line().strip().strip(b'"').decode(errors="replace") for _ in range(n_str)]
-    n_real = _ints(r.line(), r, "$ElementData header")[0]
+    n_real = r.check_count(_ints(r.line(), r, "$ElementData header")[0], "real tags")
     for _ in range(n_real):
         r.line()
-    n_int = _ints(r.line(), r, "$ElementData header")[0]
+    n_int = r.check_count(_ints(r.line(), r, "$ElementData header")[0], "integer tags")
     ints = [_ints(r.line(), r, "$ElementData header")[0] for _ in range(n_int)]
     if n_int < 3:
         raise ExportError(f"{r.where}, line {r.line_number}: $ElementData needs 3 integer tags")
     n_comp, count = ints[1], ints[2]
+    if not 1 <= n_comp <= 9 or count < 0:
+        raise ExportError(
+            f"{r.where}, line {r.line_number}: $ElementData of {n_comp} components for {count} "
+            "elements (blockmesh reads 1 component for 0 or more elements)"
+        )
     try:
         tags, rows = r.tagged_table(
             count, 1 + n_comp, np.int64, np.int32 if count <= _INT32 else np.int64
@@ -252,11 +269,7 @@ def _compact_view(f: _File, name: str, values: np.ndarray) -> np.ndarray:
 def _parse(path: Path) -> _File:
     where = str(path)
     f = _File()
-    try:
-        handle = open(path, "rb")  # noqa: SIM115 (closed by the with below)
-    except OSError as exc:
-        raise ExportError(f"cannot read {where}: {exc.strerror or exc}") from None
-    with handle:
+    with open_regular(path) as handle:
         r = TextReader(handle, where)
         head = r.line().strip()
         if head != b"$MeshFormat":
@@ -293,10 +306,7 @@ def _parse(path: Path) -> _File:
                 first = r.line_number + 1
                 body = r.lines_until(end)
                 if section == b"$PhysicalNames":
-                    for line in body[1:]:
-                        parts = line.decode(errors="replace").split(maxsplit=2)
-                        if len(parts) == 3:
-                            f.names[(int(parts[0]), int(parts[1]))] = parts[2].strip().strip('"')
+                    f.names = _physical_names(body, r, first)
                 elif section == b"$Entities":
                     f.entities = _entities(body, r, first)
                 elif section == b"$BlockMesh" and body:
@@ -306,6 +316,26 @@ def _parse(path: Path) -> _File:
     if f.coords is None or not f.surface.nodes:
         raise ExportError(f"{where} has no $Nodes or no surface elements in $Elements")
     return f
+
+
+def _physical_names(body: list[bytes], r: TextReader, first: int) -> dict[tuple[int, int], str]:
+    """(dim, tag) -> name, from the lines of a ``$PhysicalNames`` section."""
+    names: dict[tuple[int, int], str] = {}
+    for k, line in enumerate(body[1:], start=first + 1):
+        parts = line.decode(errors="replace").split(maxsplit=2)
+        if not parts:
+            continue
+        try:
+            if len(parts) != 3:
+                raise ValueError
+            dim, tag = int(parts[0]), int(parts[1])
+        except ValueError:
+            raise ExportError(
+                f"{r.where}, line {k}: malformed physical name {line[:80]!r} (expected "
+                '"DIMENSION TAG NAME", the first two whole numbers)'
+            ) from None
+        names[(dim, tag)] = parts[2].strip().strip('"')
+    return names
 
 
 def _values_for(
@@ -423,10 +453,20 @@ def _mesh_arrays(f: _File, where: str) -> dict[str, Any]:
     del nodes
     n_points = meta.get("n_points")
     corner_nodes = (
-        n_points if isinstance(n_points, int) and 0 < n_points <= f.coords.shape[0] else None
+        n_points
+        if isinstance(n_points, int)
+        and not isinstance(n_points, bool)
+        and 0 < n_points <= f.coords.shape[0]
+        else None
     )
+    split = meta.get("split")
     merged = merge_elements(
-        conn, pentagon, f.coords, where=where, split=meta.get("split"), corner_nodes=corner_nodes
+        conn,
+        pentagon,
+        f.coords,
+        where=where,
+        split=split if isinstance(split, str) else None,
+        corner_nodes=corner_nodes,
     )
     del conn, pentagon
     _, line_nodes = f.lines.joined(2)
@@ -552,8 +592,13 @@ def _lookup(f: _File, ent: np.ndarray, dim: int, table: dict[int, int], where: s
 def _block_ids(meta: dict[str, Any], entity_of_cell: np.ndarray, where: str) -> np.ndarray:
     if "entity_tag" not in meta or "entity_block" not in meta:
         return entity_of_cell - 1
-    known = np.asarray(meta["entity_tag"], dtype=np.int64)
-    blocks_of = np.asarray(meta["entity_block"], dtype=np.int64)
+    known = _int_list(meta["entity_tag"], "entity_tag", where)
+    blocks_of = _int_list(meta["entity_block"], "entity_block", where)
+    if known.size != blocks_of.size:
+        raise ExportError(
+            f"{where}: the $BlockMesh data lists {known.size} entity tags but {blocks_of.size} "
+            "entity blocks"
+        )
     by_tag = np.argsort(known)
     pos = np.minimum(np.searchsorted(known[by_tag], entity_of_cell), max(known.size - 1, 0))
     if known.size == 0 or np.any(known[by_tag][pos] != entity_of_cell):
@@ -561,7 +606,16 @@ def _block_ids(meta: dict[str, Any], entity_of_cell: np.ndarray, where: str) -> 
     return blocks_of[by_tag][pos]
 
 
-def _node_index(node_tags: np.ndarray) -> Callable[[np.ndarray, str, str], np.ndarray]:
+def _int_list(value: Any, key: str, where: str) -> np.ndarray:
+    """``value`` (from the ``$BlockMesh`` JSON) as int64; ExportError unless whole numbers."""
+    if not isinstance(value, list) or not all(
+        isinstance(v, int) and not isinstance(v, bool) and abs(v) < 2**62 for v in value
+    ):
+        raise ExportError(f"{where}: the $BlockMesh data {key!r} is not a list of whole numbers")
+    return np.array(value, dtype=np.int64)
+
+
+def _node_index(node_tags: np.ndarray, where: str) -> Callable[[np.ndarray, str, str], np.ndarray]:
     """A function mapping node tags to node indices (tag - 1 when the tags are 1..N in order).
 
     The tags it is given are the parsed file's own arrays: tag - 1 is computed in place (no copy
@@ -572,20 +626,35 @@ def _node_index(node_tags: np.ndarray) -> Callable[[np.ndarray, str, str], np.nd
         node_tags[0] == 1 and node_tags[-1] == n and bool(np.all(np.diff(node_tags) == 1))
     )
     index_of = None
+    order = sorted_tags = None
     if not consecutive:
-        index_of = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
-        index_of[node_tags] = np.arange(n)
+        low, high = int(node_tags.min()), int(node_tags.max())
+        if low < 1:
+            raise ExportError(f"{where}: $Nodes holds the node tag {low}; tags are 1 or more")
+        if high <= 4 * n + 1024:  # dense: a table of tag -> index
+            current_guard().allocate(8 * (high + 1), "the node tag table")
+            index_of = np.full(high + 1, -1, dtype=np.int64)
+            index_of[node_tags] = np.arange(n)
+        else:  # sparse: sorted tags, looked up by bisection (no table of the largest tag)
+            order = np.argsort(node_tags, kind="stable")
+            sorted_tags = node_tags[order]
 
     def to_index(tags: np.ndarray, what: str, where: str) -> np.ndarray:
         if tags.size == 0:
             return np.empty(tags.shape, dtype=np.int64)
         low, high = int(tags.min()), int(tags.max())
+        missing = ExportError(f"{where}: some {what} use node tags that are not in $Nodes")
+        if sorted_tags is not None and order is not None:
+            pos = np.minimum(np.searchsorted(sorted_tags, tags), n - 1)
+            if np.any(sorted_tags[pos] != tags):
+                raise missing
+            return order[pos]
         if index_of is None:
             if low < 1 or high > n:
-                raise ExportError(f"{where}: some {what} use node tags that are not in $Nodes")
+                raise missing
             return np.subtract(tags, 1, out=tags)
         if low < 0 or high >= index_of.size or np.any(index_of[tags] < 0):
-            raise ExportError(f"{where}: some {what} use node tags that are not in $Nodes")
+            raise missing
         return index_of[tags]
 
     return to_index

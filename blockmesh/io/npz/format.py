@@ -4,7 +4,7 @@ The archive holds ``points, cells, block_id, parent, boundary_edges, boundary_pa
 they are, ``patch_names`` and ``region_names`` as unicode arrays, ``level``, ``name`` and
 ``format_version``, for a composite domain ``interface_edges``, ``interface_patch`` and
 ``interface_names``, and for a mesh with curved edges the arrays of
-:data:`~blockmesh.io._common.CURVE_ARRAYS` (so that refining the mesh read back follows the
+:data:`~blockmesh.io.common.CURVE_ARRAYS` (so that refining the mesh read back follows the
 curves); nothing needs pickling (it is read with ``allow_pickle=False``).
 ``compression="zlib"`` uses :func:`numpy.savez_compressed`; the default ``"none"`` is
 :func:`numpy.savez` (fastest).
@@ -29,14 +29,22 @@ Examples
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from blockmesh._system.atomic import atomic_file
-from blockmesh.errors import ExportError
-from blockmesh.io.common import Format, curve_arrays, curves_from_arrays, mesh_from_arrays
+from blockmesh._system.bounded import current_guard, open_regular, reading
+from blockmesh.errors import ExportError, ResourceError
+from blockmesh.io.common import (
+    CURVE_ARRAYS,
+    Format,
+    curve_arrays,
+    curves_from_arrays,
+    mesh_from_arrays,
+)
 from blockmesh.io.polygons import POLYGONS, polygon_mesh_from_arrays
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -44,6 +52,7 @@ from blockmesh.mesh.polygons import PolygonMesh
 __all__ = ["FORMAT", "read_npz", "write_npz"]
 
 _ARRAYS = ("points", "cells", "block_id", "parent", "boundary_edges", "boundary_patch", "region")
+_POLYGON_ARRAYS = ("cell_offsets", "cell_nodes", "cell_level")
 _VERSION = 1
 
 
@@ -73,46 +82,113 @@ def write_npz(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none"
     return Path(path).absolute()
 
 
+def _members(archive: Any, wanted: tuple[str, ...], where: str, size: int) -> dict[str, int]:
+    """Each wanted member's array size in bytes, from its ``.npy`` header; nothing else is read.
+
+    ExportError for a member whose header is not an array of numbers or text, whose declared
+    size in the archive does not match its header, or whose data expands past what the file
+    may; ResourceError when the arrays together exceed the read's memory limit.
+    """
+    import zipfile
+
+    guard = current_guard(where)
+    out: dict[str, int] = {}
+    for key in wanted:
+        try:
+            info = archive.getinfo(f"{key}.npy")
+        except KeyError:
+            continue
+        what = f"the array {key!r}"
+        try:
+            with archive.open(info) as member:
+                version = np.lib.format.read_magic(member)
+                if version == (1, 0):
+                    shape, _, dtype = np.lib.format.read_array_header_1_0(member)
+                elif version == (2, 0):
+                    shape, _, dtype = np.lib.format.read_array_header_2_0(member)
+                else:
+                    raise ValueError(f".npy format version {version}")
+                header = member.tell() if member.seekable() else None
+        except Exception as exc:  # zipfile and numpy raise many kinds for a damaged header
+            raise ExportError(f"{where}: {what} has no readable .npy header ({exc})") from None
+        if dtype.kind not in "biufU" or dtype.hasobject:
+            raise ExportError(f"{where}: {what} holds {dtype} values (blockmesh writes numbers)")
+        count = 1
+        for extent in shape:
+            count *= int(extent)
+        nbytes = count * dtype.itemsize
+        if header is not None and info.file_size != header + nbytes:
+            raise ExportError(
+                f"{where}: {what} declares {nbytes:,} bytes in its header but the archive lists "
+                f"{info.file_size - header:,} (damaged)"
+            )
+        if info.compress_type == zipfile.ZIP_STORED:
+            guard.stored(info.file_size, size, what)
+        else:
+            guard.expanded(info.file_size, what)
+        guard.allocate(nbytes, what)
+        out[key] = nbytes
+    return out
+
+
 def read_npz(path: Path) -> Mesh | PolygonMesh:
-    """Read a mesh written by :func:`write_npz` (a PolygonMesh when it holds one)."""
+    """Read a mesh written by :func:`write_npz` (a PolygonMesh when it holds one).
+
+    Every array's ``.npy`` header is read first: its size is checked against the archive's
+    listing, the file (or what compressed data may expand to) and the read's memory limit before
+    any array is loaded; only the arrays of a mesh are loaded, never pickles.
+    """
+    import zipfile
+
     where = str(path)
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            polygons = "cell_offsets" in data
-            needed = [k for k in _ARRAYS if k != "cells"] if polygons else list(_ARRAYS)
-            if polygons:
-                needed += ["cell_nodes"]
-            missing = [k for k in (*needed, "patch_names", "region_names") if k not in data]
-            if missing:
-                raise ExportError(
-                    f"{where} is not a blockmesh .npz: it lacks {', '.join(missing)} "
-                    "(write it with blockmesh.io.write)"
-                )
-            arrays = {k: data[k] for k in data.files}
-    except ExportError:
-        raise
-    except Exception as exc:  # zipfile and numpy raise many kinds for damaged archives
-        raise ExportError(f"cannot read {where} as .npz: {exc}") from None
+    keys = (
+        *_ARRAYS, *_POLYGON_ARRAYS, "patch_names", "region_names", "level", "name",
+        "format_version", "kind", "interface_edges", "interface_patch", "interface_names",
+        *CURVE_ARRAYS,
+    )  # fmt: skip
+    with reading(where), open_regular(path) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        try:
+            with zipfile.ZipFile(handle) as archive:
+                present = _members(archive, keys, where, size)
+                polygons = "cell_offsets" in present
+                needed = [k for k in _ARRAYS if k != "cells"] if polygons else list(_ARRAYS)
+                if polygons:
+                    needed += ["cell_nodes"]
+                missing = [k for k in (*needed, "patch_names", "region_names") if k not in present]
+                if missing:
+                    raise ExportError(
+                        f"{where} is not a blockmesh .npz: it lacks {', '.join(missing)} "
+                        "(write it with blockmesh.io.write)"
+                    )
+                arrays = {}
+                for key in present:
+                    with archive.open(f"{key}.npy") as member:
+                        arrays[key] = np.lib.format.read_array(member, allow_pickle=False)
+        except (ExportError, ResourceError):
+            raise
+        except Exception as exc:  # zipfile and numpy raise many kinds for damaged archives
+            raise ExportError(f"cannot read {where} as .npz: {exc}") from None
     common: dict[str, Any] = {
         "where": where,
         "block_id": arrays["block_id"],
         "parent": arrays["parent"],
         "region": arrays["region"],
-        "region_names": [str(s) for s in arrays["region_names"].tolist()],
+        "region_names": _text(arrays["region_names"], "region_names", where),
         "boundary_edges": arrays["boundary_edges"],
         "boundary_patch": arrays["boundary_patch"],
-        "patch_names": [str(s) for s in arrays["patch_names"].tolist()],
+        "patch_names": _text(arrays["patch_names"], "patch_names", where),
         "interface_edges": arrays.get("interface_edges"),
         "interface_patch": arrays.get("interface_patch"),
         "interface_names": (
-            [str(s) for s in arrays["interface_names"].tolist()]
+            _text(arrays["interface_names"], "interface_names", where)
             if "interface_names" in arrays
             else None
         ),
-        "level": int(arrays.get("level", 0)),
-        "name": str(arrays.get("name", "")),
+        "level": arrays.get("level", 0),
+        "name": _text(arrays.get("name", np.array("")), "name", where, scalar=True),
     }
-    if "cell_offsets" in arrays:
+    if polygons:
         return polygon_mesh_from_arrays(
             arrays["points"],
             arrays["cell_offsets"],
@@ -123,6 +199,17 @@ def read_npz(path: Path) -> Mesh | PolygonMesh:
     return mesh_from_arrays(
         arrays["points"], arrays["cells"], curves=curves_from_arrays(arrays, where), **common
     )
+
+
+def _text(values: np.ndarray, key: str, where: str, *, scalar: bool = False) -> Any:
+    """The strings of a unicode array (a list, or one string with ``scalar``)."""
+    wanted_ndim = 0 if scalar else 1
+    if values.dtype.kind != "U" or values.ndim != wanted_ndim:
+        shape = "one string" if scalar else "a list of strings"
+        raise ExportError(
+            f"{where}: the array {key!r} is not {shape} ({values.dtype}, {values.shape})"
+        )
+    return str(values) if scalar else [str(v) for v in values.tolist()]
 
 
 FORMAT = Format(

@@ -25,18 +25,22 @@ Examples
 
 from __future__ import annotations
 
-import gzip
+import os
 import re
+import zlib
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells
+from blockmesh.io.common import check_points
 from blockmesh.io.openfoam.reader import (
     FaceSizeError,
     _find_polymesh,
+    _Inflated,
     _list_size,
     _read_face_zones,
     _read_zones,
@@ -49,6 +53,7 @@ from blockmesh.io.openfoam.reader import (
 )
 from blockmesh.io.openfoam.reader import read_openfoam as read_pentagon_case
 from blockmesh.io.polygons import polygon_mesh_from_arrays
+from blockmesh.io.text import parse_numbers
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
@@ -58,16 +63,30 @@ _FACE = re.compile(rb"(\d+)\s*\(([^()]*)\)")
 
 
 def _face_text(poly: Path) -> tuple[bytes, str]:
+    """The text of ``poly/faces`` (or ``faces.gz``, inflated), read within the read's bounds."""
     plain, packed = poly / "faces", poly / "faces.gz"
+    if os.path.lexists(plain):
+        path = plain
+    elif os.path.lexists(packed):
+        path = packed
+    else:
+        raise ExportError(f"{poly} has no faces file")
+    where = str(path)
+    guard = current_guard(where)
     try:
-        if plain.exists():
-            return plain.read_bytes(), str(plain)
-        if packed.exists():
-            with gzip.open(packed, "rb") as f:
-                return f.read(), str(packed)
-    except OSError as error:
+        with open_regular(path) as raw:
+            if path is plain:
+                guard.allocate(os.fstat(raw.fileno()).st_size, "the faces")
+                return raw.read(), where
+            stream = _Inflated(raw, where)  # counted against what the files may expand to
+            chunks = []
+            while chunk := stream.read(1 << 22):
+                guard.allocate(len(chunk), "the faces")
+                chunks.append(chunk)
+            guard.allocate(sum(len(c) for c in chunks), "the faces")  # joined below
+            return b"".join(chunks), where
+    except (OSError, EOFError, zlib.error) as error:
         raise ExportError(f"cannot read the faces of {poly}: {error}") from None
-    raise ExportError(f"{poly} has no faces file")
 
 
 def _faces(poly: Path, start: int, count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -84,10 +103,10 @@ def _faces(poly: Path, start: int, count: int) -> tuple[np.ndarray, np.ndarray]:
             continue
         if k >= start + count:
             break
-        values = np.array(match.group(2).split(), dtype=np.int64)
-        if values.size != int(match.group(1)):
+        values = parse_numbers(match.group(2), np.int64, f"{where}: face {k}")
+        if len(match.group(1)) > 18 or values.size != int(match.group(1)):
             raise ExportError(
-                f"{where}: face {k} lists {values.size} nodes, not {int(match.group(1))}"
+                f"{where}: face {k} lists {values.size} nodes, not {match.group(1)[:20].decode()}"
             )
         sizes.append(values.size)
         nodes.append(values)
@@ -95,6 +114,16 @@ def _faces(poly: Path, start: int, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise ExportError(f"{where}: faces {start}..{start + count - 1} are not all in the file")
     offsets = np.concatenate([[0], np.cumsum(sizes, dtype=np.int64)])
     return offsets, np.concatenate(nodes) if nodes else np.empty(0, np.int64)
+
+
+def _check_ids(ids: np.ndarray, n: int, what: str, where: str) -> None:
+    """ExportError naming the first of ``ids`` outside ``0 .. n - 1``."""
+    bad = (ids < 0) | (ids >= n)
+    if np.any(bad):
+        at = int(np.flatnonzero(bad.ravel())[0])
+        raise ExportError(
+            f"{where}: {what} {at} is {int(ids.ravel()[at])}, out of range (0..{n - 1})"
+        )
 
 
 def read_polygon_case(poly: Path) -> dict[str, Any]:
@@ -113,9 +142,19 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
     owner = owner.ravel()
     with foam_file(poly, "points") as (r, _):
         n_points, points = read_list(r, 3, np.float64)
+    check_points(points, str(poly / "points"))  # before the planes are found from them
     start, count = int(empty[0]["startFace"]), int(empty[0]["nFaces"])
+    for p in patches:
+        if int(p["startFace"]) + int(p["nFaces"]) > owner.size:
+            raise ExportError(
+                f"{where}: patch {p['name'][:60]!r} runs to face "
+                f"{int(p['startFace']) + int(p['nFaces']) - 1:,}, beyond the {owner.size:,} "
+                "faces of owner"
+            )
     offsets, nodes = _faces(poly, start, count)
+    _check_ids(nodes, n_points, "the empty patch's node", f"{where}/faces")
     face_owner = owner[start : start + count]
+    _check_ids(face_owner, count, "the owner of empty-patch face", where)  # 2 faces per cell
     zmin = points[:, 2].min(initial=0.0)
     tol = 1e-9 * max(1.0, float(np.ptp(points[:, 2])) if points.size else 1.0)
     on_bottom = np.abs(points[:, 2] - zmin) <= tol
@@ -147,9 +186,10 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
             continue
         first, size = int(p["startFace"]), int(p["nFaces"])
         quad_offsets, quad_nodes = _faces(poly, first, size) if size else (np.zeros(1, int), [])
-        quads = np.asarray(quad_nodes, dtype=np.int64).reshape(-1, 4)
         if size and np.any(np.diff(quad_offsets) != 4):
             raise ExportError(f"{where}: patch {p['name']} has side faces that are not quads")
+        quads = np.asarray(quad_nodes, dtype=np.int64).reshape(-1, 4)
+        _check_ids(quads, n_points, f"patch {p['name'][:60]!r}'s node", f"{where}/faces")
         edges.append(side_edges(quads, on_bottom, f"{where}: patch {p['name']}"))
         patch.append(np.full(quads.shape[0], len(names)))
         names.append(p["name"])

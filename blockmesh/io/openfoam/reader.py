@@ -23,16 +23,19 @@ from __future__ import annotations
 
 import contextlib
 import gzip
+import os
 import re
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, BinaryIO
 
 import numpy as np
 
+from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.polygons import signed_area
-from blockmesh.io.common import mesh_from_arrays
+from blockmesh.io.common import check_points, mesh_from_arrays
 from blockmesh.io.text import TextReader, parse_numbers
 from blockmesh.mesh.mesh import Mesh
 
@@ -54,33 +57,56 @@ class FaceSizeError(ExportError):
 
 _INT32 = np.iinfo(np.int32).max
 _CHUNK = 1 << 18
+#: Most lines, and most bytes of a line, of a ``FoamFile`` header.
+_HEADER_LINES, _HEADER_LINE = 200, 4096
+#: Most digits of a count (a face or point count of int64).
+_DIGITS = 18
+
+
+class _Inflated:
+    """A gzip stream whose output is counted against the read's expansion allowance."""
+
+    def __init__(self, packed: BinaryIO, where: str) -> None:
+        self.stream = gzip.GzipFile(fileobj=packed, mode="rb")
+        self.where = where
+
+    def read(self, size: int = -1, /) -> bytes:
+        data = self.stream.read(size if size >= 0 else 1 << 22)
+        current_guard(self.where).expanded(len(data), "the gzip stream")
+        return data
 
 
 @contextlib.contextmanager
 def foam_file(poly: Path, name: str) -> Iterator[tuple[TextReader, dict[str, str]]]:
     """A reader positioned after the ``FoamFile`` header of ``poly/name`` (or ``name.gz``).
 
-    Also yields the header's entries. Raises :class:`ExportError` for a missing file, a missing
-    header or a binary file.
+    Also yields the header's entries. Raises :class:`ExportError` for a missing file, one that
+    is not a regular file (a FIFO would block), a missing header or a binary file. A gzipped file
+    is inflated a chunk at a time, within what the files read may expand to.
     """
     plain, packed = poly / name, poly / f"{name}.gz"
-    handle: BinaryIO | gzip.GzipFile
-    try:
-        if plain.exists():
-            handle, where = open(plain, "rb"), str(plain)  # noqa: SIM115 (closed below)
-        elif packed.exists():
-            handle, where = gzip.open(packed, "rb"), str(packed)  # noqa: SIM115
-        else:
-            raise ExportError(f"{poly} has no {name} file; is it an OpenFOAM polyMesh directory?")
-    except OSError as exc:
-        raise ExportError(f"cannot read {plain}: {exc.strerror or exc}") from None
-    with handle:
-        r = TextReader(handle, where)
+    if os.path.lexists(plain):
+        raw, where = open_regular(plain), str(plain)
+    elif os.path.lexists(packed):
+        raw, where = open_regular(packed), str(packed)
+    else:
+        raise ExportError(f"{poly} has no {name} file; is it an OpenFOAM polyMesh directory?")
+    with raw:
+        handle: Any = raw
+        size = None
+        if where.endswith(".gz"):
+            guard = current_guard(where)
+            handle = _Inflated(raw, where)
+            size = guard.expansion_allowed - guard.expanded_bytes
+        r = TextReader(handle, where, size=size)
         try:
             header = _header(r)
-        except (OSError, EOFError) as exc:
+        except (OSError, EOFError, zlib.error) as exc:
             raise ExportError(f"cannot read {where}: {exc}") from None
-        yield r, header
+        try:
+            yield r, header
+        except (OSError, EOFError, zlib.error) as exc:  # a damaged gzip stream
+            raise ExportError(f"cannot read {where}: {exc}") from None
 
 
 def _header(r: TextReader) -> dict[str, str]:
@@ -91,12 +117,15 @@ def _header(r: TextReader) -> dict[str, str]:
             break
         if r.at_end or r.line_number > 1000:
             raise ExportError(f"{r.where} has no FoamFile header")
-    text = b""
-    while b"}" not in text:
+    lines: list[bytes] = []
+    while not lines or b"}" not in lines[-1]:
         line = r.line()
-        if r.at_end and not line:
-            raise ExportError(f"{r.where}: the FoamFile header does not end")
-        text += line + b"\n"
+        if (r.at_end and not line) or len(lines) > _HEADER_LINES:
+            raise ExportError(
+                f"{r.where}: the FoamFile header does not end (no }} within {_HEADER_LINES} lines)"
+            )
+        lines.append(line[:_HEADER_LINE])
+    text = b"\n".join(lines) + b"\n"
     header = {}
     for entry in text.split(b"}")[0].strip().lstrip(b"{").decode(errors="replace").split(";"):
         parts = entry.split(None, 1)
@@ -136,7 +165,9 @@ def read_list(
     for pattern in (_INLINE, _UNIFORM):
         match = pattern.match(text)
         if match:
-            count = int(match[1])
+            count = _count(match[1], r)
+            if pattern is _UNIFORM:
+                current_guard(r.where).allocate(8 * cols * count, f"a uniform list of {count:,}")
             inner = match[2].replace(b"(", b" ").replace(b")", b" ")
             values = parse_numbers(inner, dtype, f"{r.where}, line {r.line_number}")
             if pattern is _UNIFORM:
@@ -148,7 +179,7 @@ def read_list(
         raise ExportError(
             f"{r.where}, line {r.line_number}: expected a list size, got {text[:60]!r}"
         )
-    count = int(text)
+    count = _count(text, r)
     if _significant(r) != b"(":
         raise ExportError(f"{r.where}, line {r.line_number}: expected ( after the list size")
     r.skip(skip)
@@ -158,6 +189,15 @@ def read_list(
     return count, rows
 
 
+def _count(digits: bytes, r: TextReader) -> int:
+    """A list size (whole number of at most :data:`_DIGITS` digits)."""
+    if len(digits) > _DIGITS:
+        raise ExportError(
+            f"{r.where}, line {r.line_number}: a list size of {len(digits)} digits (damaged?)"
+        )
+    return int(digits)
+
+
 def _list_size(r: TextReader) -> int:
     text = _significant(r)
     match = re.match(rb"^(\d+)", text)
@@ -165,11 +205,15 @@ def _list_size(r: TextReader) -> int:
         raise ExportError(
             f"{r.where}, line {r.line_number}: expected a list size, got {text[:60]!r}"
         )
-    return int(match[1])
+    return _count(match[1], r)
+
+
+#: A comment (an unclosed one runs to the end: one pass, linear time).
+_COMMENT = re.compile(r"//[^\n]*|/\*.*?(?:\*/|\Z)", flags=re.S)
 
 
 def _tokens(text: str) -> list[str]:
-    text = re.sub(r"//[^\n]*|/\*.*?\*/", " ", text, flags=re.S)
+    text = _COMMENT.sub(" ", text)
     return re.findall(r'"[^"]*"|[{}();]|[^\s{}();]+', text)
 
 
@@ -202,8 +246,12 @@ def read_boundary(poly: Path) -> list[dict[str, str]]:
         raise ExportError(f"{where}: malformed patch list") from None
     for p in patches:
         for key in ("nFaces", "startFace"):
-            if not p.get(key, "").isdigit():
-                raise ExportError(f"{where}: patch {p['name']} has no whole number {key}")
+            entry_value = p.get(key, "")
+            if not entry_value.isdigit() or len(entry_value) > _DIGITS:
+                raise ExportError(
+                    f"{where}: patch {p['name'][:60]!r} has {key} {entry_value[:30]!r}, not a "
+                    "whole number"
+                )
     return patches
 
 
@@ -285,8 +333,17 @@ def _zone_list(r: TextReader, rest: bytes) -> np.ndarray:
         inner = pattern.match(rest)
         if inner:
             values = parse_numbers(inner[2], np.int64, where)
-            return values if pattern is _INLINE else np.repeat(values, int(inner[1]))
-    count = int(rest) if rest.isdigit() else _list_size(r)
+            if pattern is _INLINE:
+                return values
+            count = int(inner[1]) if len(inner[1]) <= _DIGITS else -1
+            if count < 0 or values.size != 1:
+                raise ExportError(
+                    f"{where}: a uniform list {rest[:60]!r} is not COUNT{{VALUE}} with a count of "
+                    f"at most {_DIGITS} digits"
+                )
+            current_guard(r.where).allocate(8 * count, f"a uniform list of {count:,}")
+            return np.repeat(values, count)
+    count = _count(rest, r) if rest.isdigit() else _list_size(r)
     if _significant(r) != b"(":
         raise ExportError(f"{where}: expected (")
     values = r.table(count, 1, np.int64).ravel()
@@ -363,7 +420,6 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     empty = [p for p in patches if p.get("type") == "empty"]
     if not empty:
         raise ExportError(f"{where} has no patch of type empty: not a one-layer 2-D mesh")
-    sides = [p for p in patches if p.get("type") != "empty"]
     spans = sorted(
         (int(p["startFace"]), int(p["nFaces"]), 5 if p.get("type") == "empty" else 4, k)
         for k, p in enumerate(patches)
@@ -379,6 +435,7 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         n_internal = _list_size(r)
     with foam_file(poly, "points") as (r, _):
         n_points, points = read_list(r, 3, np.float64)
+    check_points(points, str(poly / "points"))  # before the planes are found from them
     face_zones = _read_face_zones(poly, n_internal)
     ranges = [(s, n, size) for s, n, size, _ in spans]
     if face_zones is not None and n_internal:
@@ -410,11 +467,20 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     for _, _, _, k in spans:  # the front and back faces are freed with ``rows``
         if patches[k].get("type") == "empty":
             del face_of[k]
+    if not fronts:
+        raise ExportError(f"{where}: the patch of type empty has no faces: no cells to read")
     rows = fronts[0] if len(fronts) == 1 else np.concatenate(fronts)
     cells_of = cell_of[0] if len(cell_of) == 1 else np.concatenate(cell_of)
     del fronts, cell_of, faces
-    if rows.size and rows.max() >= n_points:
-        raise ExportError(f"{where}: faces name points beyond the {n_points} in the points file")
+    if rows.size and (rows.max() >= n_points or rows.min() < 0):
+        raise ExportError(
+            f"{where}: faces name points outside the {n_points} of the points file "
+            f"({rows.min()}..{rows.max()})"
+        )
+    if cells_of.size and cells_of.min() < 0:
+        raise ExportError(
+            f"{where}: the owner file names the cell {cells_of.min()} (cells are 0 or more)"
+        )
     bottom = np.all(on_bottom[rows], axis=1)
     rows, cells_of = rows[bottom], cells_of[bottom]
     del owner, bottom
@@ -449,11 +515,14 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     edges: list[np.ndarray] = []
     patch: list[np.ndarray] = []
     names: list[str] = []
-    for p in sides:
-        k = patches.index(p)
+    for k, p in enumerate(patches):
+        if p.get("type") == "empty":
+            continue
         quad = face_of.get(k, np.empty((0, 4), dtype=np.int64))
-        if quad.size and quad.max() >= n_points:
-            raise ExportError(f"{where}: patch {p['name']} names points beyond the points file")
+        if quad.size and (quad.max() >= n_points or quad.min() < 0):
+            raise ExportError(
+                f"{where}: patch {p['name'][:60]!r} names points outside the points file"
+            )
         edges.append(side_edges(quad, on_bottom, f"{where}: patch {p['name']}"))
         patch.append(np.full(quad.shape[0], len(names)))
         names.append(p["name"])

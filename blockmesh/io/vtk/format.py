@@ -10,7 +10,9 @@ an array name cannot hold white space, so names are percent-encoded as VTK does 
 VTK and ParaView show ``outer wall``).
 
 Reading: the files blockmesh writes are read straight into the mesh's arrays
-(:mod:`blockmesh.io.vtk.stream`); other files, and damaged ones, with meshio.
+(:mod:`blockmesh.io.vtk.stream`; a damaged one is an error naming the section); other files
+with meshio, in a child process with memory and time limits (:mod:`blockmesh.io.sandbox`), once
+every binary section's announced size has been checked against the file.
 
 Version 5.1 (offsets and connectivity) is what meshio and VTK 9 write; readers: VTK >= 9
 (ParaView >= 5.9), meshio. Use :mod:`blockmesh.io.vtu.format` for anything newer.
@@ -33,17 +35,19 @@ b'# vtk DataFile Version 5.1'
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 from blockmesh._system.atomic import atomic_file, scratch_file
+from blockmesh._system.bounded import open_regular
 from blockmesh.errors import ExportError
 from blockmesh.io.common import Format, decode_metadata, mesh_from_arrays
 from blockmesh.io.polygons import is_polygon_file
+from blockmesh.io.sandbox import read_with_meshio
 from blockmesh.io.vtk.stream import read_stream
 from blockmesh.io.vtu.format import (
     field_data,
@@ -152,11 +156,11 @@ def _check_sizes(path: Path, where: str) -> None:
     The sections are walked by their headers (each payload is skipped, not read; the cell
     offsets are checked), so a damaged count is caught before a reader allocates for it.
     """
-    size = path.stat().st_size
-    with open(path, "rb") as f:
+    with open_regular(path) as f:
+        size = os.fstat(f.fileno()).st_size
         for _ in range(2):
-            f.readline()
-        if f.readline().strip().upper() != b"BINARY":
+            f.readline(1 << 16)
+        if f.readline(1 << 16).strip().upper() != b"BINARY":
             return
 
         def skip(count: int, kind: str, line: bytes) -> None:
@@ -172,7 +176,7 @@ def _check_sizes(path: Path, where: str) -> None:
 
         items = 0
         try:
-            while line := f.readline():
+            while line := f.readline(1 << 16):
                 words = line.split()
                 if not words:
                     continue
@@ -183,7 +187,7 @@ def _check_sizes(path: Path, where: str) -> None:
                     skip(items, words[1].decode().lower(), line)
                 elif key == b"CELLS":
                     items = int(words[1])  # the offsets; the connectivity count is words[2]
-                    offsets = f.readline()
+                    offsets = f.readline(1 << 16)
                     kind = offsets.split()[1].decode().lower()
                     start = f.tell()
                     skip(items, kind, offsets)
@@ -196,7 +200,7 @@ def _check_sizes(path: Path, where: str) -> None:
                             or np.any(np.diff(values) < 0)
                         ):
                             raise ExportError(f"{where}: the cell offsets are damaged")
-                    connectivity = f.readline()
+                    connectivity = f.readline(1 << 16)
                     skip(int(words[2]), connectivity.split()[1].decode().lower(), connectivity)
                 elif key == b"CELL_TYPES":
                     skip(int(words[1]), "int", line)
@@ -219,16 +223,17 @@ def read_vtk(path: Path) -> Mesh | PolygonMesh:
     where = str(path)
     try:
         _check_sizes(Path(path), where)
-        with open(path, "rb") as f:
+        with open_regular(path) as f:
             head = f.read(1 << 20)
     except ExportError:
         raise
-    except Exception as exc:  # an unreadable file
+    except OSError as exc:  # an unreadable file
         raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
     fields = _read_field(head, where)
     raw = fields.get("blockmesh")
     meta = decode_metadata(None if raw is None else raw.astype(np.uint8), where)
     polygons = is_polygon_file(meta)
+    # ExportError if damaged
     parts = read_stream(Path(path)) if "blockmesh" in fields and not polygons else None
     if parts is not None:  # a file blockmesh wrote: read straight into the arrays
         arrays = padded_arrays(
@@ -236,14 +241,7 @@ def read_vtk(path: Path) -> Mesh | PolygonMesh:
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    import meshio
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            vm = meshio.vtk.read(str(path))  # not meshio.read: it exits the interpreter on errors
-    except Exception as exc:  # meshio raises many kinds
-        raise ExportError(f"cannot read {where} as legacy VTK: {exc}") from None
+    vm = read_with_meshio(path, "vtk")  # another tool's file: in a child process, with limits
     vm.field_data = {**vm.field_data, **fields}
     if holds_polygons(vm, meta):
         return polygon_mesh_from_meshio(vm, meta, where)

@@ -9,8 +9,11 @@ place: the polygons and lines, and each cell data array's two parts, are read di
 their own arrays; the points a chunk at a time (their z column dropped); the offsets and types
 are checked a chunk at a time and not kept.
 
-:func:`read_stream` returns None for any other file (or one it finds damaged); the caller then
-reads it with meshio, with the usual errors.
+:func:`read_stream` returns None for a file of another layout; the caller then reads it with
+meshio. A damaged file (counts beyond the file's end, cut short, offsets or types that are not
+pentagons then lines) is an :class:`~blockmesh.errors.ExportError` naming the section. Every count
+is checked against what is left of the file and against the read's memory limit
+(:mod:`blockmesh._system.bounded`) before its array is allocated.
 
 Examples
 --------
@@ -28,12 +31,17 @@ Examples
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
+from dataclasses import dataclass
 from io import BufferedReader
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from blockmesh._system.bounded import ReadGuard, open_regular, reading
+from blockmesh.errors import ExportError
 
 __all__ = ["read_stream"]
 
@@ -43,6 +51,21 @@ _POLYGON, _LINE = 7, 3  # VTK cell types
 
 class _NotOursError(Exception):
     """The file is not one this reader handles; meshio reads it instead."""
+
+
+class _DamagedError(Exception):
+    """The file is blockmesh's layout, damaged."""
+
+
+def _room(f: BufferedReader, size: int, nbytes: int, what: str, guard: ReadGuard) -> None:
+    """_DamagedError unless ``nbytes`` of ``what`` fit in the rest of the file; then allocate."""
+    left = size - f.tell()
+    if nbytes < 0 or nbytes > left:
+        raise _DamagedError(
+            f"{what} take {nbytes:,} bytes, but only {left:,} bytes of the file are left "
+            "(damaged or truncated)"
+        )
+    guard.allocate(nbytes, what)
 
 
 def _words(f: BufferedReader, *expected: bytes) -> list[bytes]:
@@ -57,7 +80,7 @@ def _into(f: BufferedReader, out: np.ndarray) -> None:
     """Fill ``out`` (native int64 or float64) from the big-endian bytes that follow."""
     view = out.reshape(-1).view(np.uint8).data  # out itself, as bytes
     if f.readinto(view) != view.nbytes:
-        raise _NotOursError("the file ends inside an array")
+        raise _DamagedError("the file ends inside an array")
     out.byteswap(inplace=True)
 
 
@@ -69,16 +92,23 @@ def _chunks(
         n = min(_ROWS, count - start)
         raw = f.read(n * np.dtype(dtype).itemsize)
         if len(raw) != n * np.dtype(dtype).itemsize:
-            raise _NotOursError("the file ends inside an array")
+            raise _DamagedError("the file ends inside an array")
         put(start, np.frombuffer(raw, dtype))
 
 
 def _end_of_array(f: BufferedReader) -> None:
     if f.read(1) != b"\n":
-        raise _NotOursError("an array of another length")
+        raise _DamagedError("an array of another length than announced")
 
 
-def _parse(f: BufferedReader) -> dict[str, Any]:
+@dataclass
+class _Place:
+    """The section being read, for messages."""
+
+    where: str = "the header"
+
+
+def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]:
     if not f.readline(64).startswith(b"# vtk DataFile Version 5.1"):
         raise _NotOursError("not version 5.1")
     f.readline(1 << 12)  # the title
@@ -87,35 +117,44 @@ def _parse(f: BufferedReader) -> dict[str, Any]:
     n_fields = int(_words(f, b"FIELD", b"FieldData")[2])
     for _ in range(n_fields):  # read by legacy_vtk._read_field already
         _, comps, tuples, _kind = _words(f)
-        f.seek(int(comps) * int(tuples) * 8 + 1, 1)
+        skip = int(comps) * int(tuples) * 8 + 1
+        if skip < 1 or f.tell() + skip > size:
+            raise _DamagedError("the dataset's field data runs past the end of the file")
+        f.seek(skip, 1)
+    place.where = "POINTS"
     _, count, kind = _words(f, b"POINTS")
     if kind != b"double":
         raise _NotOursError("points that are not doubles")
     n = int(count)
+    _room(f, size, 24 * n, f"{n:,} points", guard)
     points = np.empty((n, 2))
 
     for start in range(0, n, _ROWS):  # (x, y, z) rows, z dropped
         k = min(_ROWS, n - start)
         raw = f.read(24 * k)
         if len(raw) != 24 * k:
-            raise _NotOursError("the file ends inside the points")
+            raise _DamagedError("the file ends inside the points")
         points[start : start + k] = np.frombuffer(raw, ">f8").reshape(k, 3)[:, :2]
     _end_of_array(f)
+    place.where = "CELLS"
     words = _words(f, b"CELLS")
     total, length = int(words[1]) - 1, int(words[2])
     m, rem = divmod(length - 2 * total, 3)  # 5 m + 2 (total - m) == length
     if rem or not 0 < m <= total:
         raise _NotOursError("cells other than pentagons and lines")
     eb = total - m
+    _room(f, size, 8 * (total + 1 + length), f"{total:,} cells of {length:,} node ids", guard)
 
     def offsets(start: int, values: np.ndarray) -> None:
         k = np.arange(start, start + values.size)
         if not np.array_equal(values, np.where(k <= m, 5 * k, 5 * m + 2 * (k - m))):
-            raise _NotOursError("cells other than pentagons and lines")
+            raise _DamagedError("offsets that are not those of pentagons followed by lines")
 
+    place.where = "OFFSETS"
     _words(f, b"OFFSETS", b"vtktypeint64")
     _chunks(f, total + 1, ">i8", offsets)
     _end_of_array(f)
+    place.where = "CONNECTIVITY"
     _words(f, b"CONNECTIVITY", b"vtktypeint64")
     cells, edges = np.empty((m, 5), np.int64), np.empty((eb, 2), np.int64)
     _into(f, cells)
@@ -125,19 +164,23 @@ def _parse(f: BufferedReader) -> dict[str, Any]:
     def types(start: int, values: np.ndarray) -> None:
         k = np.arange(start, start + values.size)
         if not np.array_equal(values, np.where(k < m, _POLYGON, _LINE)):
-            raise _NotOursError("cells other than pentagons and lines")
+            raise _DamagedError("cell types that are not pentagons followed by lines")
 
+    place.where = "CELL_TYPES"
     if int(_words(f, b"CELL_TYPES")[1]) != total:
-        raise _NotOursError("cell types of another length")
+        raise _DamagedError(f"a count other than the {total:,} cells")
     _chunks(f, total, ">i4", types)
     _end_of_array(f)
+    place.where = "CELL_DATA"
     if int(_words(f, b"CELL_DATA")[1]) != total:
-        raise _NotOursError("cell data of another length")
+        raise _DamagedError(f"a count other than the {total:,} cells")
     cell_data: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for _ in range(int(_words(f, b"FIELD", b"FieldData")[2])):
         name, comps, tuples, kind = _words(f)
+        place.where = f"the cell data {name.decode(errors='replace')!r}"
         if comps != b"1" or int(tuples) != total or kind != b"vtktypeint64":
             raise _NotOursError("cell data of another kind")
+        _room(f, size, 8 * total, "the cell data", guard)
         on = (np.empty(m, np.int64), np.empty(eb, np.int64))
         _into(f, on[0])
         _into(f, on[1])
@@ -153,10 +196,15 @@ def read_stream(path: Path) -> dict[str, Any] | None:
 
     Returns ``points``, ``cells``, ``edges`` and
     ``cell_data`` (``NAME -> (on the polygons, on the lines)``). Peak memory: the arrays returned
-    plus a few megabytes.
+    plus a few megabytes. Raises :class:`ExportError` for a damaged file of blockmesh's layout.
     """
-    try:
-        with open(path, "rb") as f:
-            return _parse(f)
-    except (_NotOursError, ValueError, IndexError, UnicodeDecodeError, OSError):
-        return None  # meshio reads it and reports what is wrong
+    where = str(path)
+    place = _Place()
+    with reading(where) as guard, open_regular(path) as f:
+        size = os.fstat(f.fileno()).st_size
+        try:
+            return _parse(f, size, guard, place)
+        except _DamagedError as exc:
+            raise ExportError(f"{where}: {place.where}: {exc}") from None
+        except (_NotOursError, ValueError, IndexError, UnicodeDecodeError):
+            return None  # another layout: meshio reads it and reports what is wrong

@@ -23,13 +23,14 @@ a Threshold on ``interface`` shows the interface lines).
 Text arrays would show better, but meshio cannot read them. The names, the level and the mesh
 name are also a JSON object, the ``UInt8`` field-data array ``blockmesh`` (its UTF-8 bytes), which
 blockmesh reads back. A mesh with curved edges also has the field data arrays of
-:data:`~blockmesh.io._common.CURVE_ARRAYS` (``curve_edges`` flattened, ``curve_index``,
+:data:`~blockmesh.io.common.CURVE_ARRAYS` (``curve_edges`` flattened, ``curve_index``,
 ``curve_start``, ``curve_stop``, and ``curve_shapes``, the bytes of a JSON list), so that
 refining the mesh read back follows its curves. meshio and VTK read all of it back.
 
 Reading: the files blockmesh writes are decoded in chunks straight into the mesh's arrays
-(:mod:`blockmesh.io.vtu.stream`, about 1.7x the mesh at its peak); other VTU files, and damaged
-ones, are read with meshio.
+(:mod:`blockmesh.io.vtu.stream`, about 1.7x the mesh at its peak; a damaged one is an error
+naming the array); other VTU files are read with meshio in a child process with memory and time
+limits (:mod:`blockmesh.io.sandbox`).
 
 Compression: ``"none"`` (the default: raw base64, the fastest, about twice the time of the
 refinement that made the mesh), ``"zlib"`` (zlib level 1 on several threads: about 2.5x smaller
@@ -56,7 +57,6 @@ Examples
 from __future__ import annotations
 
 import shutil
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
@@ -85,6 +85,7 @@ from blockmesh.io.polygons import (
     is_polygon_file,
     polygon_mesh_from_arrays,
 )
+from blockmesh.io.sandbox import read_with_meshio
 from blockmesh.io.vtu.stream import read_stream
 from blockmesh.io.vtu.writer import write_vtu_stream
 from blockmesh.mesh.mesh import Mesh
@@ -469,11 +470,11 @@ def read_vtu(path: Path) -> Mesh | PolygonMesh:
 
     Files from elsewhere are read too when their polygons are all pentagons: missing data gets
     the defaults of :func:`blockmesh.io.common.mesh_from_arrays`. The files blockmesh wrote are
-    read in chunks straight into the mesh's arrays (:mod:`blockmesh.io.vtu.stream`); others, and
-    damaged ones, with meshio.
+    read in chunks straight into the mesh's arrays (:mod:`blockmesh.io.vtu.stream`); others with
+    meshio, in a child process with memory and time limits (:mod:`blockmesh.io.sandbox`).
     """
     where = str(path)
-    parts = read_stream(Path(path))
+    parts = read_stream(Path(path))  # ExportError for a damaged blockmesh file
     if parts is not None:  # pentagons only: a polygon file is never one it handles
         meta = decode_metadata(parts.fields[_FIELD].astype(np.uint8), where)
         arrays = padded_arrays(
@@ -481,14 +482,7 @@ def read_vtu(path: Path) -> Mesh | PolygonMesh:
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    import meshio
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            vm = meshio.vtu.read(str(path))  # not meshio.read: it exits the interpreter on errors
-    except Exception as exc:  # meshio raises many kinds
-        raise ExportError(f"cannot read {where} as VTU: {exc}") from None
+    vm = read_with_meshio(path, "vtu")  # another tool's file: in a child process, with limits
     raw = vm.field_data.get(_FIELD)
     meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
     if holds_polygons(vm, meta):

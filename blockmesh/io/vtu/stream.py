@@ -11,8 +11,15 @@ way, the polygons and the lines are split as they arrive, the offsets and types 
 chunk by chunk and never kept).
 
 :func:`read_stream` returns ``None`` for a file it does not handle (no ``blockmesh`` field data,
-another layout, cells that are not pentagons and lines, data it cannot decode); the caller then
-reads it with meshio, which gives the usual errors for damaged files.
+another layout, cells that are not pentagons and lines); the caller then reads it with meshio.
+A file that has the ``blockmesh`` field data and is damaged is an :class:`ExportError` naming
+the array and what is wrong with it.
+
+Bounds (see :mod:`blockmesh._system.bounded`): only regular files are opened; a tag is at most
+``_TAG_LIMIT`` bytes and its attributes are parsed in linear time; every array's declared size
+is checked against what is left of the file (or, compressed, against what the file may expand
+to) and against the read's memory limit before its array is allocated; every compressed block
+is inflated in pieces and never past the size its header declares.
 
 Examples
 --------
@@ -31,15 +38,18 @@ Examples
 from __future__ import annotations
 
 import binascii
-import lzma
+import os
 import re
-import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
+
+from blockmesh._system.bounded import ReadGuard, inflate, open_regular, reading
+from blockmesh.errors import ExportError
+from blockmesh.io.text import parse_numbers
 
 __all__ = ["VtuParts", "read_stream"]
 
@@ -58,18 +68,38 @@ _TYPES = {
     "Float32": "<f4",
     "Float64": "<f8",
 }
-_COMPRESSORS: dict[str | None, Callable[[bytes], bytes] | None] = {
+#: The compressors of VTK, by the name of the method :func:`blockmesh._system.bounded.inflate` uses.
+_COMPRESSORS: dict[str | None, str | None] = {
     None: None,
-    "vtkZLibDataCompressor": zlib.decompress,
-    "vtkLZMADataCompressor": lzma.decompress,
+    "vtkZLibDataCompressor": "zlib",
+    "vtkLZMADataCompressor": "lzma",
 }
 _POLYGON, _LINE = 7, 3  # VTK cell types
 _CELL_DATA = ("block_id", "region", "parent", "patch", "interface")
-_ATTR = re.compile(rb'([A-Za-z_:][\w:.-]*)\s*=\s*"([^"]*)"')
+#: One attribute, matched where the previous one ended (never searched for: linear time).
+_ATTR = re.compile(rb"""\s*([A-Za-z_:][\w:.-]*)\s*=\s*(?:"([^"<]*)"|'([^'<]*)')""")
 
 
 class _NotOursError(Exception):
     """The file is not one this reader handles; meshio reads it instead."""
+
+
+class _DamagedError(_NotOursError):
+    """The file is damaged: an error if it is blockmesh's, else meshio's to report."""
+
+
+def _attributes(rest: bytes) -> dict[str, str]:
+    """The attributes of a tag's text after its name, parsed left to right in linear time."""
+    attrs: dict[str, str] = {}
+    at, end = 0, len(rest.rstrip())
+    while at < end:
+        match = _ATTR.match(rest, at)
+        if match is None:
+            raise _DamagedError(f"a malformed attribute in a tag: {rest[at : at + 40]!r}")
+        value = match[2] if match[2] is not None else match[3]
+        attrs[match[1].decode(errors="replace")] = value.decode(errors="replace")
+        at = match.end()
+    return attrs
 
 
 @dataclass
@@ -122,7 +152,7 @@ class _Sink:
         at = 0
         while at < rows:
             if self.part >= len(self.targets):
-                raise _NotOursError("more values than expected")
+                raise _DamagedError("more values than expected")
             size, put = self.targets[self.part]
             take = min(size - self.done_rows, rows - at)
             put(self.done_rows, values[at : at + take])
@@ -133,7 +163,7 @@ class _Sink:
 
     def close(self) -> None:
         if self.tail or self.part != len(self.targets):
-            raise _NotOursError("fewer values than expected")
+            raise _DamagedError("fewer values than expected")
 
 
 def _into(out: np.ndarray, keep: int | None = None) -> Callable[[int, np.ndarray], None]:
@@ -164,13 +194,20 @@ def _expect(
 class _Scanner:
     """The XML text of a VTU file, read a chunk at a time."""
 
-    def __init__(self, f: BinaryIO) -> None:
+    def __init__(self, f: BinaryIO, size: int) -> None:
         self.f, self.buf, self.pos = f, b"", 0
+        self.size, self.read = size, 0
+
+    @property
+    def left(self) -> int:
+        """Bytes of the file not consumed yet (buffered or not read)."""
+        return self.size - self.read + len(self.buf) - self.pos
 
     def _more(self) -> bool:
         chunk = self.f.read(_CHUNK)
         if not chunk:
             return False
+        self.read += len(chunk)
         self.buf = self.buf[self.pos :] + chunk
         self.pos = 0
         return True
@@ -179,7 +216,7 @@ class _Scanner:
         """The (short: at most ``limit`` bytes) text up to ``token``, which is consumed."""
         while (at := self.buf.find(token, self.pos)) < 0:
             if len(self.buf) - self.pos > limit or not self._more():
-                raise _NotOursError(f"no {token!r}")
+                raise _DamagedError(f"no {token!r}")
         text = self.buf[self.pos : at]
         self.pos = at + len(token)
         return text
@@ -191,9 +228,10 @@ class _Scanner:
             body = self.until(b">")
             if body.startswith((b"!--", b"?")):
                 continue
-            name, _, rest = body.rstrip(b"/").partition(b" ")
-            attrs = {k.decode(): v.decode() for k, v in _ATTR.findall(rest)}
-            return name.strip(), attrs
+            parts = body.rstrip(b"/").split(None, 1)
+            if not parts:
+                raise _DamagedError("an empty tag")
+            return parts[0], _attributes(parts[1] if len(parts) > 1 else b"")
 
     def stream(self, feed: Callable[[bytes], None], count: int | None = None) -> None:
         """Decode the base64 text up to the next ``<`` (or ``count`` characters) into ``feed``."""
@@ -218,18 +256,18 @@ class _Scanner:
                 text = text.rstrip()
             usable = len(text) if final else len(text) - len(text) % 4
             if usable % 4:
-                raise _NotOursError("base64 text of a length that is not a multiple of 4")
+                raise _DamagedError("base64 text of a length that is not a multiple of 4")
             try:
                 data = binascii.a2b_base64(text[:usable], strict_mode=True)
             except binascii.Error as exc:
-                raise _NotOursError(str(exc)) from None
+                raise _DamagedError(str(exc)) from None
             carry = text[usable:]
             if data:
                 feed(data)
             if final:
                 return
             if not self._more():
-                raise _NotOursError("the file ends inside an array")
+                raise _DamagedError("the file ends inside an array")
 
     def decoded(self, count: int) -> bytes:
         """The bytes of the next ``count`` base64 characters."""
@@ -242,17 +280,27 @@ def _read_array(
     scan: _Scanner,
     attrs: dict[str, str],
     header: str,
-    compressor: Callable[[bytes], bytes] | None,
+    compressor: str | None,
     plan: Callable[[int, str], _Sink],
+    guard: ReadGuard,
 ) -> None:
-    """Read one binary DataArray, its ``plan(nbytes, dtype)`` giving the sink of its values."""
+    """Read one binary DataArray, its ``plan(nbytes, dtype)`` giving the sink of its values.
+
+    The declared size is checked against what is left of the file (uncompressed: it is all
+    there; compressed: the blocks' sizes are) before ``plan`` allocates anything; each compressed
+    block is inflated in pieces, never past its declared size.
+    """
     dtype = _TYPES.get(attrs.get("type", ""))
     if attrs.get("format") != "binary" or dtype is None:
-        raise _NotOursError("not a binary array")
+        raise _NotOursError(
+            f"format={attrs.get('format')!r} type={attrs.get('type')!r} (blockmesh writes binary "
+            "arrays of numbers)"
+        )
     htype = np.dtype(header)
     if compressor is None:
         sink: list[_Sink] = []
         pending = b""
+        left = scan.left  # bytes of the file from this array's text on
 
         def first(data: bytes) -> None:
             nonlocal pending
@@ -261,65 +309,102 @@ def _read_array(
                 if len(pending) < htype.itemsize:
                     return
                 size = int(np.frombuffer(pending[: htype.itemsize], htype)[0])
+                if size > left * 3 // 4:
+                    raise _DamagedError(
+                        f"its header announces {size:,} bytes, but only {left:,} bytes of "
+                        "the file are left (damaged or truncated)"
+                    )
                 sink.append(plan(size, dtype))
                 data, pending = pending[htype.itemsize :], b""
             sink[0].feed(data)
 
         scan.stream(first)
         if not sink:
-            raise _NotOursError("an empty array")
+            raise _DamagedError("an empty array")
         sink[0].close()
         return
     head = np.frombuffer(scan.decoded(4 * htype.itemsize), htype)  # 3 items: 12 or 24 bytes
+    if head.size < 3:
+        raise _DamagedError("a compression header cut short")
     blocks, block, last = (int(v) for v in head[:3])
     if not 0 < blocks < 1 << 40 or block < 1 or not 0 < last <= block:
-        raise _NotOursError("a bad compression header")
+        raise _DamagedError(
+            f"a bad compression header ({blocks} blocks of {block} bytes, the last {last})"
+        )
     rest = blocks * htype.itemsize
-    sizes = np.frombuffer(
-        scan.decoded(4 * -(-(rest + 3 * htype.itemsize) // 3) - 4 * htype.itemsize), htype
-    )
+    chars = 4 * -(-(rest + 3 * htype.itemsize) // 3) - 4 * htype.itemsize
+    if chars > scan.left:
+        raise _DamagedError(
+            f"its compression header lists {blocks:,} blocks, more than the file can hold"
+        )
+    sizes = np.frombuffer(scan.decoded(chars), htype)
     if sizes.size != blocks:
-        raise _NotOursError("a bad compression header")
+        raise _DamagedError("a compression header cut short")
     ends = np.cumsum(sizes.astype(np.int64))
-    out = plan((blocks - 1) * block + last, dtype)
+    if int(ends[-1]) > scan.left * 3 // 4:
+        raise _DamagedError(
+            f"its {blocks:,} compressed blocks take {int(ends[-1]):,} bytes, but only "
+            f"{scan.left:,} bytes of the file are left (damaged or truncated)"
+        )
+    total = (blocks - 1) * block + last
+    if total > guard.expansion_allowed - guard.expanded_bytes:
+        raise _DamagedError(
+            f"its compressed blocks announce {total:,} bytes, more than the file may expand to "
+            f"({guard.expansion_allowed:,} bytes: a decompression bomb?)"
+        )
+    out = plan(total, dtype)
     k, tail = 0, b""
 
-    def inflate(data: bytes) -> None:
+    def feed(data: bytes) -> None:
         nonlocal k, tail
         buf = memoryview(tail + data if tail else data)
         base = int(ends[k - 1]) if k else 0  # the offset of buf[0] in the compressed stream
         while k < blocks and base + len(buf) >= ends[k]:
             lo, hi = (int(ends[k - 1]) if k else 0) - base, int(ends[k]) - base
+            what = f"compressed block {k} of {blocks}"
             try:
-                raw = compressor(buf[lo:hi])  # type: ignore[arg-type]
-            except (zlib.error, lzma.LZMAError) as exc:
-                raise _NotOursError(str(exc)) from None
-            if len(raw) != (last if k == blocks - 1 else block):
-                raise _NotOursError("a block of the wrong size")
+                raw = inflate(buf[lo:hi], compressor, last if k == blocks - 1 else block, what, "")
+            except ExportError as error:
+                raise _DamagedError(str(error).lstrip(": ")) from None
             out.feed(raw)
             k += 1
         lo = (int(ends[k - 1]) if k else 0) - base
         tail = bytes(buf[lo:])
 
-    scan.stream(inflate)
+    scan.stream(feed)
     if k != blocks or tail:
-        raise _NotOursError("missing compressed blocks")
+        raise _DamagedError(f"{blocks - k} of its {blocks} compressed blocks are missing")
     out.close()
 
 
-def _field(scan: _Scanner, attrs: dict[str, str]) -> np.ndarray:
+def _field(scan: _Scanner, attrs: dict[str, str], guard: ReadGuard) -> np.ndarray:
     dtype = _TYPES.get(attrs.get("type", ""))
     if attrs.get("format") != "ascii" or dtype is None:
         raise _NotOursError("field data that is not ascii")
     text = scan.until(b"</DataArray>", _FIELD_LIMIT)
+    name = attrs.get("Name", "")[:40]
+    guard.allocate(4 * len(text), f"the field data {name!r}")  # at most len/2 float64 values
     try:
-        return np.array(text.split(), dtype=np.float64).astype(dtype)
-    except ValueError:
+        values = parse_numbers(text, np.float64, "field data")
+    except ExportError:
         raise _NotOursError("field data that is not numbers") from None
+    kind = np.dtype(dtype)
+    low, high = (np.iinfo(kind).min, np.iinfo(kind).max) if kind.kind in "iu" else (-np.inf, np.inf)
+    if not np.all((values >= low) & (values <= high)):  # NaN fails too
+        raise _NotOursError(f"field data beyond the range of {kind}")
+    return values.astype(dtype)
 
 
-def _parse(f: BinaryIO) -> VtuParts:
-    scan = _Scanner(f)
+@dataclass
+class _Place:
+    """Where the parser is, for messages: whether the file is blockmesh's, and which array."""
+
+    ours: bool = False
+    where: str = "the header"
+
+
+def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: _Place) -> VtuParts:
+    scan = _Scanner(f, size)
     name, top = scan.tag()
     if name != b"VTKFile" or top.get("type") != "UnstructuredGrid":
         raise _NotOursError("not an unstructured grid")
@@ -333,29 +418,37 @@ def _parse(f: BinaryIO) -> VtuParts:
     if scan.tag()[0] != b"UnstructuredGrid" or scan.tag()[0] != b"FieldData":
         raise _NotOursError("no field data")
     while (tag := scan.tag())[0] == b"DataArray":
-        fields[tag[1].get("Name", "")] = _field(scan, tag[1])
+        fields[tag[1].get("Name", "")] = _field(scan, tag[1], guard)
     name, piece = scan.tag()
     if tag[0] != b"/FieldData" or name != b"Piece" or "blockmesh" not in fields:
         raise _NotOursError("not written by blockmesh")
+    place.ours, place.where = True, "<Piece>"
     try:
         n, total = int(piece["NumberOfPoints"]), int(piece["NumberOfCells"])
     except (KeyError, ValueError):
-        raise _NotOursError("no point or cell count") from None
-    points = np.empty((n, 2))
+        raise _NotOursError("no whole-number NumberOfPoints and NumberOfCells") from None
+    if n < 0 or total < 0:
+        raise _DamagedError(f"NumberOfPoints={n}, NumberOfCells={total}")
     shape: dict[str, int] = {}
-    parts = VtuParts(points, np.empty((0, 5), np.int64), np.empty((0, 2), np.int64))
+    empty = np.empty((0, 2))
+    parts = VtuParts(empty, np.empty((0, 5), np.int64), np.empty((0, 2), np.int64))
 
     def plan_points(nbytes: int, dtype: str) -> _Sink:
         if nbytes != 3 * n * np.dtype(dtype).itemsize:
-            raise _NotOursError("points of another shape")
-        return _Sink(dtype, 3, [(n, _into(points, keep=2))])
+            raise _DamagedError(f"{nbytes:,} bytes for {n:,} points of 3 coordinates")
+        guard.allocate(16 * n, f"the {n:,} points")
+        parts.points = np.empty((n, 2))
+        return _Sink(dtype, 3, [(n, _into(parts.points, keep=2))])
 
     def plan_connectivity(nbytes: int, dtype: str) -> _Sink:
         length = nbytes // np.dtype(dtype).itemsize
         m, rem = divmod(length - 2 * total, 3)  # 5 m + 2 (total - m) == length
         if rem or not 0 < m <= total or nbytes % np.dtype(dtype).itemsize:
-            raise _NotOursError("cells other than pentagons and lines")
+            raise _NotOursError(
+                f"{length:,} node ids for {total:,} cells: not pentagons followed by lines"
+            )
         shape["m"], shape["eb"] = m, total - m
+        guard.allocate(8 * length, f"the {m:,} pentagons and {total - m:,} boundary lines")
         parts.cells = np.empty((m, 5), np.int64)
         parts.edges = np.empty((total - m, 2), np.int64)
         targets = [(5 * m, _into(parts.cells)), (2 * (total - m), _into(parts.edges))]
@@ -364,7 +457,7 @@ def _parse(f: BinaryIO) -> VtuParts:
     def plan_check(kind: str) -> Callable[[int, str], _Sink]:
         def plan(nbytes: int, dtype: str) -> _Sink:
             if "m" not in shape or nbytes != total * np.dtype(dtype).itemsize:
-                raise _NotOursError(f"{kind} of another length")
+                raise _DamagedError(f"{nbytes:,} bytes for {total:,} cells")
             m = shape["m"]
             if kind == "offsets":
                 targets: list[Target] = [
@@ -386,7 +479,8 @@ def _parse(f: BinaryIO) -> VtuParts:
     def plan_data(key: str) -> Callable[[int, str], _Sink]:
         def plan(nbytes: int, dtype: str) -> _Sink:
             if "m" not in shape or nbytes != total * np.dtype(dtype).itemsize:
-                raise _NotOursError(f"cell data {key} of another length")
+                raise _DamagedError(f"{nbytes:,} bytes for {total:,} cells")
+            guard.allocate(8 * total, f"the cell data {key!r}")
             on = (np.empty(shape["m"], np.int64), np.empty(shape["eb"], np.int64))
             if key in _CELL_DATA:
                 parts.cell_data[key] = on
@@ -406,21 +500,26 @@ def _parse(f: BinaryIO) -> VtuParts:
     ]
     seen: set[str] = set()
     for section, plans in sections:
+        place.where = f"<{section.decode()}>"
         if scan.tag()[0] != section:
-            raise _NotOursError(f"no {section.decode()}")
+            raise _NotOursError(f"no <{section.decode()}> where it belongs")
         while (tag := scan.tag())[0] == b"DataArray":
             key = tag[1].get("Name", "")
+            place.where = f"the DataArray {key!r} in <{section.decode()}>"
             plan = plan_data(key) if plans is None else plans.get(key)
             if plan is None or key in seen:
-                raise _NotOursError(f"an unexpected array {key}")
+                raise _NotOursError("an array not expected there (or twice)")
             seen.add(key)
-            _read_array(scan, tag[1], header, compressor, plan)
+            _read_array(scan, tag[1], header, compressor, plan, guard)
             if scan.tag()[0] != b"/DataArray":
-                raise _NotOursError("an unclosed array")
+                raise _NotOursError("no </DataArray> after the data")
+            place.where = f"<{section.decode()}>"
         if tag[0] != b"/" + section:
-            raise _NotOursError(f"unexpected {tag[0].decode()}")
-    if not {"Points", "connectivity", "offsets", "types"} <= seen:
-        raise _NotOursError("missing arrays")
+            raise _NotOursError(f"<{tag[0].decode(errors='replace')}> where it does not belong")
+    place.where = "<Piece>"
+    missing = {"Points", "connectivity", "offsets", "types"} - seen
+    if missing:
+        raise _NotOursError(f"no {', '.join(sorted(missing))} array")
     if [scan.tag()[0] for _ in range(3)] != [b"/Piece", b"/UnstructuredGrid", b"/VTKFile"]:
         raise _NotOursError("more than one piece")
     parts.fields = fields
@@ -430,10 +529,21 @@ def _parse(f: BinaryIO) -> VtuParts:
 def read_stream(path: Path) -> VtuParts | None:
     """The arrays of a VTU file written by blockmesh, read in chunks; None for other files.
 
-    Peak memory is the arrays returned plus a few megabytes.
+    Peak memory is the arrays returned plus a few megabytes. Raises :class:`ExportError` for a
+    file that is not a regular file, and for one that has blockmesh's field data but is damaged
+    (naming the array and what is wrong).
     """
-    try:
-        with open(path, "rb") as f:
-            return _parse(f)
-    except (_NotOursError, ValueError, TypeError, IndexError, OverflowError, UnicodeDecodeError):
-        return None  # meshio reads it and reports what is wrong
+    where = str(path)
+    place = _Place()
+    with reading(where) as guard, open_regular(path) as f:
+        size = os.fstat(f.fileno()).st_size
+        try:
+            return _parse(f, size, guard, place)
+        except _DamagedError as exc:
+            if not place.ours:
+                return None  # not blockmesh's: meshio reports what is wrong
+            raise ExportError(f"{where}: {place.where}: {exc}") from None
+        except (_NotOursError, ValueError, TypeError, IndexError, OverflowError):
+            return None  # another layout: meshio reads it
+        except UnicodeDecodeError:
+            return None

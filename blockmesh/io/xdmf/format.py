@@ -20,7 +20,7 @@ has), and an ``Information`` element ``blockmesh`` with the JSON metadata. The `
 ===================== ============== =========================================================
 
 and the root attribute ``blockmesh`` (the same JSON). A mesh with curved edges also has the group
-``/curves`` with the arrays of :data:`~blockmesh.io._common.CURVE_ARRAYS` (``/curves/curve_edges``
+``/curves`` with the arrays of :data:`~blockmesh.io.common.CURVE_ARRAYS` (``/curves/curve_edges``
 ...), which ParaView ignores and :func:`read_xdmf` reads back, so that refining the mesh read
 follows its curves. The cells, in h5py:
 ``f["mesh/topology"][: 7 * M].reshape(M, 7)[:, 2:]``.
@@ -72,6 +72,7 @@ from typing import Any
 import numpy as np
 
 from blockmesh._system.atomic import atomic_with_data
+from blockmesh._system.bounded import confined, current_guard, open_regular, parse_xml
 from blockmesh.errors import ExportError
 from blockmesh.io.common import (
     CURVE_ARRAYS,
@@ -87,6 +88,7 @@ from blockmesh.io.common import (
 )
 from blockmesh.io.polygons import POLYGONS, is_polygon_file, polygon_mesh_from_arrays
 from blockmesh.io.text import parse_numbers
+from blockmesh.io.xdmf.hdf5_probe import Probe, probe_hdf5
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
@@ -154,15 +156,16 @@ def _padded(on_cells: np.ndarray, m: int, eb: int, *, lines: bool = False) -> np
 
 
 def _owned(light: str) -> Callable[[Path], bool]:
-    """Whether an ``.h5`` file is the data file of an earlier write of the light file ``light``."""
+    """Whether an ``.h5`` file is the data file of an earlier write of the light file ``light``.
+
+    Its attribute is read by a child process (:func:`~blockmesh.io.xdmf.hdf5_probe.probe_hdf5`): a
+    damaged file found in the folder cannot stall the write.
+    """
 
     def owned(path: Path) -> bool:
-        import h5py
-
         try:
-            with h5py.File(path, "r") as f:
-                raw = f.attrs.get("blockmesh")
-        except Exception:  # not an HDF5 file, or a damaged one: not ours to remove
+            raw = probe_hdf5(path, str(path)).attribute
+        except ExportError:  # not an HDF5 file, or a damaged one: not ours to remove
             return False
         if raw is None:
             return False
@@ -298,46 +301,99 @@ def _write_polygons(mesh: PolygonMesh, path: Path, compression: str) -> Path:
 
 
 # ----------------------------------------------------------------------------------- reading
-class _Heavy:
-    """The HDF5 files a light file names, opened once each (and their blockmesh metadata)."""
+#: HDF5 filters a dataset may use (blockmesh writes gzip with shuffle); others are refused.
+_FILTERS = frozenset({"gzip", "shuffle", "fletcher32"})
+
+
+class HeavyData:
+    """The HDF5 files a light file names, opened once each (and their blockmesh metadata).
+
+    A file must be a regular file in the light file's folder
+    (:func:`blockmesh._system.bounded.confined`, one message whatever the reason, so the light
+    file cannot probe for files elsewhere). Its structure is first described by a child process
+    (:func:`~blockmesh.io.xdmf.hdf5_probe.probe_hdf5`: a damaged file can make the HDF5 library
+    loop or crash); a dataset must then be reached by hard links only (no external links,
+    external storage or virtual datasets: each could read another file), hold numbers, and store
+    what it declares: all of its bytes when uncompressed, every chunk when chunked, with gzip at
+    most; its size is checked against the read's memory
+    limit before it is read, in this process.
+    """
 
     def __init__(self, base: Path, where: str, write_id: str | None) -> None:
         self.base, self.where, self.write_id = base, where, write_id
         self.files: dict[Path, Any] = {}
+        self.probes: dict[Path, Probe] = {}
 
     def dataset(self, source: str) -> np.ndarray:
         import h5py
 
-        name, _, dataset = source.partition(":")
-        file = (self.base / name).resolve()
+        name, _, dataset = source.strip().partition(":")
+        file = confined(self.base, name, self.where, "HDF5 file")
         if file not in self.files:
-            if not file.exists():
-                raise ExportError(
-                    f"{self.where} refers to {file}, which does not exist (copy the .h5 file "
-                    "with the .xdmf file, or write the mesh again)"
-                )
+            self.probes[file] = probe_hdf5(file, self.where)
+            self._check_pair(file)
             try:
                 self.files[file] = h5py.File(file, "r")
-            except OSError as exc:
-                raise ExportError(f"cannot read {file} as HDF5: {exc}") from None
-            self._check_pair(file)
+            except Exception as exc:  # h5py raises OSError and others for a damaged file
+                raise ExportError(f"cannot read {file} as HDF5: {_short(exc)}") from None
+            current_guard(self.where).opened(file.stat().st_size)
+        key = "/".join(p for p in dataset.split("/") if p)
+        self._check_dataset(self.probes[file].datasets.get(key), key, file)
         try:
-            if dataset not in self.files[file]:
-                raise ExportError(f"{self.where}: {file} has no dataset {dataset}")
-            return self.files[file][dataset][()]
-        except ExportError:
-            raise
+            return self.files[file][key][()]
         except Exception as exc:  # h5py raises many kinds for a damaged file
-            raise ExportError(f"cannot read {dataset} from {file}: {exc}") from None
+            raise ExportError(f"cannot read /{key} from {file}: {_short(exc)}") from None
+
+    def _check_dataset(self, info: dict[str, Any] | None, key: str, file: Path) -> None:
+        what = f"{self.where}: the dataset /{key} of {file.name}"
+        if not key or info is None:
+            raise ExportError(f"{self.where}: {file.name} has no dataset /{key}")
+        if info.get("link") != "HardLink":
+            raise ExportError(
+                f"{what} is reached by a {info.get('link')} (blockmesh follows no links out of a "
+                "data file, and reads datasets only)"
+            )
+        if info["kind"] not in "iuf" or info["itemsize"] > 8:
+            raise ExportError(f"{what} holds {info['dtype']} values, not numbers")
+        if info["virtual"] or info["external"]:
+            raise ExportError(f"{what} keeps its data in other files (blockmesh reads none)")
+        unknown = sorted(set(info["filters"]) - _FILTERS)
+        if unknown:
+            raise ExportError(f"{what} uses the filter {unknown[0]} (blockmesh reads gzip)")
+        if not info["readable"]:
+            raise ExportError(f"{what} cannot be read (the HDF5 library fails on it)")
+        size = 1
+        for extent in info["shape"]:
+            size *= extent
+        nbytes = size * info["itemsize"]
+        stored = info["stored"]
+        guard = current_guard(self.where)
+        if info["chunks"] is None:
+            if stored != nbytes:
+                raise ExportError(
+                    f"{what} declares {nbytes:,} bytes but stores {stored:,} (damaged, or made to "
+                    "expand)"
+                )
+        else:
+            chunks = 1
+            for extent, chunk in zip(info["shape"], info["chunks"], strict=True):
+                chunks *= -(-extent // max(chunk, 1))
+            if info["chunks_stored"] != chunks:
+                raise ExportError(
+                    f"{what} declares {chunks:,} chunks but stores {info['chunks_stored']:,} "
+                    "(damaged, or made to expand)"
+                )
+            if not info["filters"] and stored < nbytes:
+                raise ExportError(f"{what} declares {nbytes:,} bytes but stores {stored:,}")
+            if info["filters"]:
+                guard.expanded(nbytes, what.split(": ", 1)[1])
+        guard.allocate(nbytes, f"the dataset /{key}")
 
     def _check_pair(self, file: Path) -> None:
         """ExportError if ``file`` was written by another write than the light file."""
         if self.write_id is None:
             return
-        try:
-            raw = self.files[file].attrs.get("blockmesh")
-        except Exception as exc:  # h5py raises many kinds for a damaged file
-            raise ExportError(f"cannot read the attributes of {file}: {exc}") from None
+        raw = self.probes[file].attribute
         got = decode_metadata(raw, str(file)).get("write_id") if raw is not None else None
         if got != self.write_id:
             raise ExportError(
@@ -345,15 +401,31 @@ class _Heavy:
                 f"writes (write ids {self.write_id} and {got}); write the mesh again"
             )
 
+    def metadata(self, file: Path) -> str | None:
+        """The ``blockmesh`` attribute of ``file`` (probed already by :meth:`dataset`)."""
+        return self.probes[file].attribute
+
     def close(self) -> None:
         for f in self.files.values():
             f.close()
 
 
-def _read_item(item: ET.Element, heavy: _Heavy) -> np.ndarray:
+def _short(error: BaseException) -> str:
+    """An exception's message on one line, at most 300 characters."""
+    text = " ".join(str(error).split())
+    return text if len(text) <= 300 else text[:297] + "..."
+
+
+def _read_item(item: ET.Element, heavy: HeavyData) -> np.ndarray:
     fmt = item.get("Format", "XML")
     text = (item.text or "").strip()
-    dims = tuple(int(s) for s in item.get("Dimensions", "").split())
+    try:
+        dims = tuple(int(s) for s in item.get("Dimensions", "").split())
+    except ValueError:
+        raise ExportError(
+            f"{heavy.where}: a DataItem has Dimensions={item.get('Dimensions')!r:.60}, not whole "
+            "numbers"
+        ) from None
     if fmt == "XML":
         kind = np.float64 if item.get("NumberType", "Float") == "Float" else np.int64
         arr = parse_numbers(text.encode(), kind, f"{heavy.where}: a DataItem")
@@ -362,6 +434,13 @@ def _read_item(item: ET.Element, heavy: _Heavy) -> np.ndarray:
     else:
         raise ExportError(f"{heavy.where}: DataItem Format={fmt!r} is not supported (HDF or XML)")
     return arr.reshape(dims) if dims and int(np.prod(dims)) == arr.size else arr
+
+
+def _rows(values: np.ndarray, width: int, what: str, where: str) -> np.ndarray:
+    """``values`` as rows of ``width``; ExportError when their number does not divide."""
+    if width < 1 or values.size % width:
+        raise ExportError(f"{where}: {what} hold {values.size:,} numbers, not rows of {width}")
+    return values.reshape(-1, width)
 
 
 def _mixed_polygons(
@@ -380,9 +459,26 @@ def _mixed_polygons(
             if at + 1 >= top.size:
                 raise ExportError(f"{where}: the Mixed topology ends inside a polygon")
             sizes.append(int(top[at + 1]))
+            if sizes[-1] < 3:
+                raise ExportError(
+                    f"{where}: the Mixed topology has a polygon of {sizes[-1]} nodes at entry "
+                    f"{at + 1} (a polygon has 3 or more)"
+                )
             at += 2 + sizes[-1]
         offsets = np.concatenate([[0], np.cumsum(sizes, dtype=np.int64)])
-    offsets = np.asarray(offsets, dtype=np.int64)
+    offsets = np.asarray(offsets).reshape(-1)
+    if (
+        offsets.dtype.kind not in "iu"
+        or offsets.size < 2
+        or offsets[0] != 0
+        or np.any(np.diff(offsets) < 3)
+        or offsets[-1] > top.size
+    ):
+        raise ExportError(
+            f"{where}: the polygon offsets are not whole numbers rising from 0 by 3 or more "
+            f"within the topology's {top.size:,} entries"
+        )
+    offsets = offsets.astype(np.int64)
     m = offsets.size - 1
     total = int(offsets[-1]) + 2 * m
     eb = n_elements - m
@@ -408,6 +504,8 @@ def _mixed(top: np.ndarray, n_elements: int, where: str) -> tuple[np.ndarray, np
         raise ExportError(f"{where}: the Mixed topology is not pentagons then 2-node lines")
     m = m3 // 3
     eb = n_elements - m
+    if eb < 0:
+        raise ExportError(f"{where}: the Mixed topology is not pentagons then 2-node lines")
     poly = top[: 7 * m].reshape(m, 7)
     line = top[7 * m :].reshape(eb, 4)
     if np.any(poly[:, 0] != _POLYGON) or np.any(poly[:, 1] != 5):
@@ -440,10 +538,13 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
     """
     path = Path(path).absolute()
     where = str(path)
-    try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as exc:
-        raise ExportError(f"cannot read {where} as XDMF: {exc}") from None
+    guard = current_guard(where)
+    with open_regular(path) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        guard.allocate(8 * size, "the XML tree")  # expat's tree: a few times the text
+        data = handle.read()
+    root = parse_xml(data, where)
+    del data
     info = root.find(".//Information[@Name='blockmesh']")
     meta = decode_metadata(info.get("Value") if info is not None else None, where)
     cells_grid = lines_grid = None
@@ -463,7 +564,7 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
             lines_grid = g
     if cells_grid is None:
         raise ExportError(f'{where} has no Grid with a "Mixed" or "Polygon" (5 nodes) topology')
-    heavy = _Heavy(path.parent, where, meta.get("write_id"))
+    heavy = HeavyData(path.parent, where, meta.get("write_id"))
     try:
 
         def item(el: ET.Element | None, what: str) -> np.ndarray:
@@ -486,7 +587,13 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
             attribute(cells_grid, a) for a in ("block_id", "parent", "region")
         )
         mixed = top_el.get("TopologyType", top_el.get("Type", "")).lower() == "mixed"
-        n_elements = int(top_el.get("NumberOfElements", "-1"))
+        number = top_el.get("NumberOfElements", "")
+        if mixed and not number.strip().isdigit():
+            raise ExportError(
+                f"{where}: the Mixed topology has NumberOfElements={number!r:.40}, not a whole "
+                "number"
+            )
+        n_elements = int(number) if mixed else -1
         topology = item(top_el, "the topology") if mixed else np.empty(0, np.int64)
         pentagons = None
         if mixed and not is_polygon_file(meta):
@@ -512,7 +619,7 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
             patch = attribute(cells_grid, "patch")
             interface = attribute(cells_grid, "interface")
             return polygon_mesh_from_arrays(
-                points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
+                _rows(points, points.shape[-1] if points.ndim == 2 else 2, "the points", where),
                 offsets,
                 nodes,
                 where=where,
@@ -539,9 +646,11 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
             interface = attribute(cells_grid, "interface")
             interface = None if interface is None else interface[m:].copy()
         else:
-            cells = item(top_el, "the polygons").reshape(-1, 5)
+            cells = _rows(item(top_el, "the polygons"), 5, "the polygons", where)
             if lines_grid is not None:
-                edges = item(lines_grid.find("Topology"), "the boundary lines").reshape(-1, 2)
+                edges = _rows(
+                    item(lines_grid.find("Topology"), "the boundary lines"), 2, "the lines", where
+                )
                 patch = attribute(lines_grid, "patch")
             elif meta:
                 edges = np.empty((0, 2), dtype=np.int64)
@@ -553,7 +662,7 @@ def read_xdmf(path: Path) -> Mesh | PolygonMesh:
                 {k: heavy.dataset(f"{h5name}:/curves/{k}") for k in CURVE_ARRAYS}, where
             )
         return mesh_from_arrays(
-            points.reshape(-1, points.shape[-1] if points.ndim == 2 else 2),
+            _rows(points, points.shape[-1] if points.ndim == 2 else 2, "the points", where),
             cells,
             where=where,
             block_id=block_id,
