@@ -101,8 +101,13 @@ class StageProgress:
             stop.set()
             watcher.join()
             with self._lock:
-                if self._shown and finished:
+                # A stage past SHOW_AFTER gets its line even when the watcher never ran (a
+                # loaded machine can starve the thread for the whole stage).
+                due = self._shown or time.perf_counter() - self._started >= SHOW_AFTER
+                if due and finished:
                     self._draw(final=True)
-                elif self._shown:
+                elif due:
+                    if not self._shown:
+                        self._draw()
                     self.stream.write("\n")
                     self.stream.flush()

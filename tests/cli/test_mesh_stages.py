@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 
@@ -89,6 +90,25 @@ def test_stage_lines_appear_for_slow_stages_only(monkeypatch):
     with StageProgress("sp", enabled=True, stream=quiet).stage("measuring"):
         pass
     assert quiet.getvalue() == ""
+
+
+@pytest.mark.parametrize("fails", [False, True])
+def test_a_stage_past_the_threshold_gets_its_line_even_if_the_watcher_never_ran(monkeypatch, fails):
+    """A loaded machine can starve the drawing thread for a whole stage: the line still ends
+    the stage (with "done in" when it finished), never silence."""
+    monkeypatch.setattr(progress_module, "SHOW_AFTER", 0.0)
+    monkeypatch.setattr(progress_module, "_TICK", 3600.0)  # the watcher never draws
+    stream = io.StringIO()
+    with (
+        contextlib.suppress(RuntimeError),
+        StageProgress("sp", enabled=True, stream=stream).stage("writing") as tick,
+    ):
+        tick(3, 4)
+        if fails:
+            raise RuntimeError
+    text = stream.getvalue()
+    assert text.startswith("\rsp: writing [") and "3/4" in text and text.endswith("\n")
+    assert ("done in" in text) is not fails
 
 
 def test_a_failing_stage_ends_its_line_without_done(monkeypatch):
