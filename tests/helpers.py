@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import math
 
 import pytest
@@ -23,6 +24,19 @@ CATALOGUE = [
 #: a sweep over the catalogue whose work grows with the blocks takes them in the slow set only
 #: (:func:`sweep`). ``test_large_catalogue_is_the_domains_of_90_blocks_or_more`` keeps the list.
 LARGE_CATALOGUE = ("channel-obstacle", "comb", "lake-island", "plate-octagon")
+
+
+def missing(module: str) -> bool:
+    """Whether ``module`` cannot be imported (an optional extra is absent).
+
+    Imported, not only looked up: ``tests/`` is on ``sys.path``, so a test folder such as
+    ``tests/distributed`` would pass for the package of that name.
+    """
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        return True
+    return False
 
 
 def sweep(names, large=LARGE_CATALOGUE) -> list:

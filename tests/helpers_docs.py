@@ -22,7 +22,6 @@ piece of the example's text, and a test checks that every key still matches an e
 from __future__ import annotations
 
 import contextlib
-import importlib
 import io
 import re
 import shlex
@@ -32,6 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from helpers import missing
 from helpers_io import foam_tool
 
 from blockmesh.cli import main
@@ -245,19 +245,6 @@ def _run_command(command: str, shown: list[str], folder: Path, where: str) -> No
     first = shown[0] if shown else ""
     if first and "..." not in first and not first.lstrip().startswith("{") and code == 0:
         assert first.strip() in out, report
-
-
-def missing(module: str) -> bool:
-    """Whether ``module`` cannot be imported (an optional extra is absent).
-
-    Imported, not only looked up: ``tests/`` is on ``sys.path``, so a test folder such as
-    ``tests/distributed`` would pass for the package of that name.
-    """
-    try:
-        importlib.import_module(module)
-    except ImportError:
-        return True
-    return False
 
 
 def run_example(

@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 
 import pytest
+from helpers import missing
 from helpers_hostile import assert_refused, listing, run_blockmesh
 
 import blockmesh
@@ -207,6 +208,9 @@ with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
 
 
 @pytest.mark.skipif(shutil.which("strace") is None, reason="needs strace")
+@pytest.mark.skipif(
+    missing("dask.distributed"), reason="needs Dask (pip install -e '.[distributed]')"
+)
 @pytest.mark.parametrize("rename", [1, 2])
 def test_a_kill_at_either_rename_of_the_commit_leaves_a_readable_mesh(tmp_path, rename):
     index = tmp_path / "m.pvtu"
