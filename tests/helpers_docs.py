@@ -77,6 +77,7 @@ SLOW = {
     "'mydomains/*.toml' sp ring --level 5": "three meshes at level 5, written as VTU",
     "square-cut l-shape ring --level 4 --plot": "three meshes drawn on two cores",
     "--adapt --max-unknowns 20000": "twelve adaptive solves, up to 13,000 unknowns",
+    "--size 1e-5 --max-memory 1G": "the memory guard measures a field of 15 billion cells (~60 s)",
     "--diffusion fibre=20": "meshes the fibre cell and solves on 91,368 cells",
 }
 

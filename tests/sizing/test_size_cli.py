@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from helpers import run_cli
 
 from blockmesh.decompose.sized import SIZE_TOLERANCE
@@ -65,6 +66,7 @@ def test_size_table_in_a_domain_file(capsys, tmp_path):
     assert report["sizes"]["worst_ratio"] <= SIZE_TOLERANCE
 
 
+@pytest.mark.slow  # 10-45 s: fields measured over huge counts
 def test_bad_sizes_are_one_located_line(capsys, tmp_path):
     code, _, err = run_cli(capsys, "mesh", "square", "--size", "0")
     assert code != 0 and "--size must be a finite number > 0, got 0" in err

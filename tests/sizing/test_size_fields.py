@@ -164,6 +164,7 @@ def test_gradation_bounds_the_growth_and_never_raises_the_field(inside, outside,
     assert np.all(ha <= field(a) + 1e-15)
 
 
+@pytest.mark.slow  # 10-45 s: fields measured over huge counts
 def test_ideal_count_integrates_one_over_a_h_squared():
     square = shapely.box(0, 0, 2, 1)
     exact = 2 / (PENTAGON_AREA * 0.05**2)
@@ -183,6 +184,7 @@ def test_mesh_ideal_count_agrees_with_the_quadtree():
     assert mesh_ideal_count(field, mesh.points, mesh.cells) == pytest.approx(quadtree, rel=0.02)
 
 
+@pytest.mark.slow  # 10-45 s: fields measured over huge counts
 def test_memory_guard_names_the_largest_size_that_fits():
     square = blockmesh.load_domain("square")
     limit = 200 * 2**20
