@@ -68,6 +68,20 @@ def examples(ci: int) -> int:
     return max(1, math.ceil(ci * settings.default.max_examples / CI_EXAMPLES))
 
 
+def slow_except(values: list[object], *kept: object) -> list[object]:
+    """``values`` as parameters, every one but ``kept`` marked slow.
+
+    For a parametrised test whose cases prove the same property at different costs: the default
+    run keeps a cheap sample (``kept``) and the slow set adds the rest, e.g.
+    ``@pytest.mark.parametrize("name", slow_except(FORMAT_NAMES, "vtu"))``.
+    """
+    unknown = [value for value in kept if value not in values]
+    assert not unknown, f"kept values {unknown!r} are not among {values!r}"
+    return [
+        value if value in kept else pytest.param(value, marks=pytest.mark.slow) for value in values
+    ]
+
+
 def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
     """Run ``blockmesh ARGV...`` through :func:`blockmesh.cli.main`: (exit code, stdout, stderr)."""
     code = main(list(argv))

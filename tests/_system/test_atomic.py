@@ -187,6 +187,7 @@ for _ in range(15):
 """
 
 
+@pytest.mark.slow
 def test_concurrent_writers_leave_one_whole_pair(tmp_path: Path) -> None:
     """Two processes writing the same .xdmf target: the pair read at the end is whole."""
     path = tmp_path / "m.xdmf"

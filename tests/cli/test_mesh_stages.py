@@ -43,6 +43,7 @@ def test_an_oversize_request_is_refused_before_any_work(capsys, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_the_largest_level_offered_does_fit(capsys):
     limit = _limit(400_000_000)
     code, _, err = run_cli(capsys, "mesh", "joined-8", "--level", "8", "--max-memory", limit)

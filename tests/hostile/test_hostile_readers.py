@@ -20,6 +20,7 @@ import h5py
 import numpy as np
 import pytest
 import scipy.io
+from helpers import slow_except
 from helpers_hostile import (
     assert_refused,
     deflate_zeros,
@@ -47,7 +48,7 @@ def _check_refused(folder: Path, *argv: str, names: tuple[str, ...] = ()) -> Non
 
 
 # ------------------------------------------------------------------ only ordinary files
-@pytest.mark.parametrize("suffix", FILE_FORMATS)
+@pytest.mark.parametrize("suffix", slow_except(FILE_FORMATS, ".msh", ".npz"))
 def test_a_fifo_named_like_a_mesh_is_refused_without_blocking(tmp_path, suffix):
     os.mkfifo(tmp_path / f"m{suffix}")
     _check_refused(tmp_path, "check", f"m{suffix}", names=(f"m{suffix}", "FIFO"))
@@ -84,7 +85,11 @@ def _point_xdmf_at(light: Path, reference: str) -> None:
 
 @pytest.mark.parametrize(
     "reference",
-    ["/etc/passwd", "../../../../../../etc/passwd", "/proc/self/mem", "link-out", "/no/such/f"],
+    slow_except(
+        ["/etc/passwd", "../../../../../../etc/passwd", "/proc/self/mem", "link-out", "/no/such/f"],
+        "../../../../../../etc/passwd",
+        "link-out",
+    ),
 )
 def test_the_hdf5_reference_stays_in_the_xdmf_folder(tmp_path, reference):
     folder = tmp_path / "in"

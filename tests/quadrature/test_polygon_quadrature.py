@@ -6,6 +6,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -52,7 +53,7 @@ def polynomials(draw: st.DrawFn, degree: int) -> str:
     st.integers(1, 5),
     st.data(),
 )
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 def test_polynomials_of_degree_2n_minus_1_are_exact(name, seed, rounds, rule, order, data):
     mesh = _polygon_mesh(name, seed, rounds)
     f = data.draw(polynomials(2 * order - 1))

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from helpers import CATALOGUE
+from helpers import CATALOGUE, examples
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -144,7 +144,7 @@ def _random_mask(mesh: PolygonMesh, seed: int, fraction: float) -> np.ndarray:
 
 
 @given(markings(DOMAINS), st.sampled_from(["pentagons", "pentagons", "quads"]))
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(40), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_random_markings_several_rounds_deep(case, scheme):
     name, level, rounds = case
     base = blockmesh.load_domain(name).mesh(level)
@@ -168,7 +168,7 @@ def test_random_markings_several_rounds_deep(case, scheme):
 
 
 @given(markings(CURVED))
-@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(15), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_random_markings_keep_nodes_on_the_curves(case):
     name, level, rounds = case
     base = blockmesh.load_domain(name).mesh(level)
@@ -199,7 +199,7 @@ def test_general_polygons_split_into_pentagons_and_a_central_polygon():
     st.lists(st.floats(0.2, 1.0), min_size=12, max_size=12),
     st.floats(0, 2 * np.pi),
 )
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60), deadline=None)
 def test_children_of_convex_polygons_are_convex(n, radii, turn):
     angles = turn + 2 * np.pi * np.arange(n) / n
     ring = np.column_stack([np.cos(angles), np.sin(angles)]) * np.array(radii[:n])[:, None]

@@ -8,6 +8,7 @@ import re
 import numpy as np
 import pytest
 import shapely
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -137,7 +138,7 @@ def test_unknown_patch_and_region_name_the_known_ones():
         plate.with_size({"default": 0.2, "regions": {"core": 0.05}})
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=examples(25), deadline=None)
 @given(
     inside=st.floats(0.005, 0.05),
     outside=st.floats(0.1, 1.0),

@@ -254,6 +254,7 @@ def _corner_share(domain, corner) -> float:
     return float(areas[np.any(domain.blocks == v, axis=1)].max() / areas.mean())
 
 
+@pytest.mark.slow
 def test_uniform_is_corner_true():
     d = blockmesh.load_domain("l-shape")
     shares_paper, shares_uniform = [], []

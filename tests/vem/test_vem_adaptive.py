@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -32,7 +33,7 @@ def _hanging_mesh(name: str, seed: int, rounds: int = 3) -> PolygonMesh:
 
 
 @given(st.sampled_from(["l-shape", "square-cut", "comb", "hexagon"]), st.integers(0, 10**6))
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=examples(12), deadline=None)
 def test_poisson_patch_test_with_hanging_nodes(name, seed):
     mesh = _hanging_mesh(name, seed)
     exact = "1 + 2*x - 3*y"
@@ -45,7 +46,7 @@ def test_poisson_patch_test_with_hanging_nodes(name, seed):
 
 
 @given(st.integers(0, 10**6))
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=examples(8), deadline=None)
 def test_poisson_patch_test_with_neumann_data(seed):
     mesh = _hanging_mesh("square", seed)
     flux = {"right": 2.0, "bottom": 3.0, "top": -3.0}  # (2, -3) . n on each side
@@ -56,7 +57,7 @@ def test_poisson_patch_test_with_neumann_data(seed):
 
 
 @given(st.integers(0, 10**6))
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=examples(8), deadline=None)
 def test_elasticity_patch_test_with_hanging_nodes(seed):
     mesh = _hanging_mesh("square-cut", seed)
     ux, uy = "0.1 + 0.2*x - 0.3*y", "-0.2 + 0.05*x + 0.4*y"
