@@ -41,11 +41,10 @@ from blockmesh.refinement.pipeline import MAX_LEVEL, check_level, refine
 from blockmesh.refinement.placement import (
     PLACEMENTS,
     SIZE_TARGETS,
-    Freedom,
     ShapeOptimization,
     as_placement,
 )
-from blockmesh.refinement.shape import PlacementReport, ShapeEnergy, optimize_points
+from blockmesh.refinement.shape import PlacementReport, ShapeEnergy
 
 __all__ = [
     "ANGLE_TIE",
@@ -167,20 +166,7 @@ def optimize_nodes(
         iterations=iterations,
         tol=tol,
     )
-    target = mesh.cell_areas() if size_target == "cells" else mesh.area / mesh.n_cells
-    freedom = Freedom.of_mesh(mesh)
-    points, info = optimize_points(
-        mesh.points,
-        mesh.cells,
-        freedom.fixed,
-        freedom.slide,
-        target=target,
-        size_weight=float(rule.size_weight),
-        power=float(rule.power),
-        iterations=rule.iterations,
-        tol=rule.tol,
-    )
-    better = mesh.with_points(points)
+    better, info = rule.improve(mesh)
     return (better, info) if report else better
 
 

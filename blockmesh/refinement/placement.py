@@ -39,7 +39,7 @@ from blockmesh.checks import choice, whole_number
 from blockmesh.errors import ArgumentError, ArgumentTypeError
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
 from blockmesh.mesh.mesh import Mesh
-from blockmesh.refinement.shape import optimize_points
+from blockmesh.refinement.shape import PlacementReport, optimize_points
 from blockmesh.refinement.smoothing import smooth_interior
 
 __all__ = [
@@ -262,16 +262,25 @@ class ShapeOptimization(Placement):
             axis=1,
         )
         target = areas if self.size_target == "cells" else float(areas.sum()) / len(cells)
-        return self._optimized(points, cells, freedom, target)
+        return self._optimized(points, cells, freedom, target)[0]
 
     def after_level(self, mesh: Mesh) -> Mesh:
         """The mesh with its nodes moved (targets from the mesh's own measures)."""
-        target = mesh.cell_areas() if self.size_target == "cells" else mesh.area / mesh.n_cells
-        points = self._optimized(mesh.points, mesh.cells, Freedom.of_mesh(mesh), target)
-        return mesh.with_points(points)
+        return self.improve(mesh)[0]
 
-    def _optimized(self, points, cells, freedom: Freedom, target) -> np.ndarray:
-        moved, _ = optimize_points(
+    def improve(self, mesh: Mesh) -> tuple[Mesh, PlacementReport]:
+        """The mesh with its nodes moved, and the report of the move.
+
+        The size targets come from the mesh's own measures (its cell areas, or their mean).
+        """
+        target = mesh.cell_areas() if self.size_target == "cells" else mesh.area / mesh.n_cells
+        points, report = self._optimized(mesh.points, mesh.cells, Freedom.of_mesh(mesh), target)
+        return mesh.with_points(points), report
+
+    def _optimized(
+        self, points, cells, freedom: Freedom, target
+    ) -> tuple[np.ndarray, PlacementReport]:
+        return optimize_points(
             points,
             cells,
             freedom.fixed,
@@ -282,7 +291,6 @@ class ShapeOptimization(Placement):
             iterations=self.iterations,
             tol=self.tol,
         )
-        return moved
 
 
 def as_placement(placement: str | Placement, *, iterations: int = 60) -> Placement:
