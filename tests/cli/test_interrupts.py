@@ -10,7 +10,7 @@ from helpers import run_cli
 
 import blockmesh
 import blockmesh.commands.mesh.single
-import blockmesh.io.xdmf.format as xdmf
+import blockmesh.io.xdmf.writer as xdmf
 
 
 class _CtrlCInAFinaliser:
