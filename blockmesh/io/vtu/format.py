@@ -102,6 +102,7 @@ __all__ = [
     "own_arrays",
     "padded_arrays",
     "polygon_mesh_from_meshio",
+    "read_foreign",
     "read_vtu",
     "write_vtu",
 ]
@@ -482,9 +483,30 @@ def read_vtu(path: Path) -> Mesh | PolygonMesh:
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    vm = read_with_meshio(path, "vtu")  # another tool's file: in a child process, with limits
-    raw = vm.field_data.get(_FIELD)
-    meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
+    return read_foreign(path, "vtu")  # another tool's file
+
+
+def read_foreign(
+    path: Path,
+    kind: str,
+    *,
+    meta: dict | None = None,
+    fields: dict[str, np.ndarray] | None = None,
+) -> Mesh | PolygonMesh:
+    """A mesh from a ``kind`` file (``"vtu"`` or ``"vtk"``) of another tool, read with meshio.
+
+    meshio reads it in a child process with memory and time limits
+    (:mod:`blockmesh.io.sandbox`). ``fields`` (field data read beforehand) are added to the
+    file's; ``meta`` is the JSON metadata when already decoded, else it is decoded from the field
+    data. Polygons of other sizes than five make a :class:`PolygonMesh`.
+    """
+    where = str(path)
+    vm = read_with_meshio(path, kind)  # in a child process, with limits
+    if fields is not None:
+        vm.field_data = {**vm.field_data, **fields}
+    if meta is None:
+        raw = vm.field_data.get(_FIELD)
+        meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
     if holds_polygons(vm, meta):
         return polygon_mesh_from_meshio(vm, meta, where)
     arrays = meshio_arrays(vm, meta, where)
