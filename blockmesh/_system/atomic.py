@@ -248,6 +248,33 @@ def clean_stale(target: Path) -> list[Path]:
     return stale
 
 
+# ---------------------------------------------------------------- one file or one folder
+@contextlib.contextmanager
+def _committed(target: Path, *, directory: bool) -> Iterator[Path]:
+    """A temporary file (or folder) put in place of ``target`` when the block ends without error.
+
+    A file is renamed onto the target, a folder swapped in (:func:`_swap_in`); the temporary is
+    removed whatever happens, and an :class:`OSError` becomes an :class:`ExportError`.
+    """
+    target = check_target(Path(target), directory=directory)
+    with export_errors(target):
+        clean_stale(target)
+        tmp = _new_temp_dir(target) if directory else _new_temp_file(target)
+        try:
+            yield tmp
+            os.chmod(tmp, _mode_for(target, 0o777 if directory else 0o666))
+            raise_pending()  # Ctrl-C swallowed by a finaliser during the write: no commit
+            if directory:
+                _swap_in(tmp, target)
+            else:
+                os.replace(tmp, target)
+        finally:
+            if directory:
+                _remove(tmp)
+            else:
+                _unlink(tmp)
+
+
 # ------------------------------------------------------------------------------ one file
 @contextlib.contextmanager
 def atomic_file(target: Path) -> Iterator[Path]:
@@ -258,17 +285,8 @@ def atomic_file(target: Path) -> Iterator[Path]:
     block removes the temporary file and leaves the target as it was; an :class:`OSError` becomes
     an :class:`ExportError` (see :func:`export_error`).
     """
-    target = check_target(Path(target))
-    with export_errors(target):
-        clean_stale(target)
-        tmp = _new_temp_file(target)
-        try:
-            yield tmp
-            os.chmod(tmp, _mode_for(target, 0o666))
-            raise_pending()  # Ctrl-C swallowed by a finaliser during the write: no commit
-            os.replace(tmp, target)
-        finally:
-            _unlink(tmp)
+    with _committed(target, directory=False) as tmp:
+        yield tmp
 
 
 @contextlib.contextmanager
@@ -389,17 +407,8 @@ def atomic_dir(target: Path) -> Iterator[Path]:
     :func:`clean_stale`). The old folder is deleted afterwards. If the block raises, the
     temporary folder is deleted and ``target`` is left as it was.
     """
-    target = check_target(Path(target), directory=True)
-    with export_errors(target):
-        clean_stale(target)
-        tmp = _new_temp_dir(target)
-        try:
-            yield tmp
-            os.chmod(tmp, _mode_for(target, 0o777))
-            raise_pending()
-            _swap_in(tmp, target)
-        finally:
-            _remove(tmp)
+    with _committed(target, directory=True) as tmp:
+        yield tmp
 
 
 # -------------------------------------------------------------- light file + data file
