@@ -283,7 +283,10 @@ def read_faces(poly: Path, ranges: list[tuple[int, int, int]]) -> list[np.ndarra
 
 
 def header_counts(header: dict[str, str]) -> dict[str, int]:
-    """The counts in a ``note "nPoints:.. nCells:.. nFaces:.. nInternalFaces:.."``."""
+    """The counts a header's ``note`` gives (``nPoints``, ``nCells``, ``nFaces``, ...) by name.
+
+    The note reads ``"nPoints:.. nCells:.. nFaces:.. nInternalFaces:.."``.
+    """
     return {k: int(v) for k, v in re.findall(r"(n\w+):\s*(\d+)", header.get("note", ""))}
 
 
