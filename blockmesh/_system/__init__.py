@@ -3,6 +3,7 @@
 Nothing here knows about meshes. The modules:
 
 - :mod:`~blockmesh._system.atomic`: outputs built beside their target and committed by one rename;
+- :mod:`~blockmesh._system.targets`: output targets checked, OS failures as one located error;
 - :mod:`~blockmesh._system.memory`: memory available and held, byte counts for people;
 - :mod:`~blockmesh._system.procfs`: the one reader of ``/proc``;
 - :mod:`~blockmesh._system.threads`: independent pieces of work on worker threads;

@@ -59,7 +59,7 @@ from blockmesh._system.bounded import (
 )
 from blockmesh.distributed.pieces import Piece
 from blockmesh.errors import ExportError
-from blockmesh.io.xdmf.format import HeavyData
+from blockmesh.io.xdmf.reader import HeavyData
 from blockmesh.mesh.mesh import Mesh
 
 __all__ = [

@@ -50,8 +50,8 @@ import stat
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from blockmesh._system.atomic import as_path
 from blockmesh._system.bounded import check_regular, file_kind, reading
+from blockmesh._system.targets import as_path
 from blockmesh.checks import whole_number
 from blockmesh.errors import BlockMeshError, ExportError
 from blockmesh.io.common import Format, check_mesh

@@ -36,6 +36,7 @@ from blockmesh.quadrature.curved import exact_sums
 from blockmesh.quadrature.estimate import null_rule
 from blockmesh.quadrature.kernel import (
     DEFAULT_CHUNK,
+    CellSums,
     cell_sums,
     chunks,
     scaled_sum,
@@ -86,6 +87,23 @@ def _prepare(
         plan, found.info(n).points_per_cell, budget, f"order {n} of the {found.name} rule"
     )
     return function, found, n, plan, points
+
+
+def _cell_integrals(
+    target: object,
+    f: object,
+    order: object,
+    level: object,
+    rule: object,
+    chunk: object,
+    max_points: object,
+    exact_geometry: object,
+) -> CellSums:
+    """The rule's integral over every cell of a Mesh or Domain target (one pass, no estimate)."""
+    function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
+    mesh = plan.build()
+    sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
+    return exact_sums(sums, mesh, function, found, n, _flag(exact_geometry))
 
 
 def integrate(
@@ -167,10 +185,9 @@ def integrate(
             target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3
         ).value
     if warn_rtol is None:
-        function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
-        mesh = plan.build()
-        sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
-        return total_of(exact_sums(sums, mesh, function, found, n, _flag(exact_geometry)))
+        return total_of(
+            _cell_integrals(target, f, order, level, rule, chunk, max_points, exact_geometry)
+        )
     return _with_estimate(
         target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, stacklevel=3
     ).value
@@ -203,10 +220,7 @@ def integrate_cells(
         values = _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[0]
         values.setflags(write=False)
         return values
-    function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
-    mesh = plan.build()
-    sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
-    return exact_sums(sums, mesh, function, found, n, _flag(exact_geometry)).values
+    return _cell_integrals(target, f, order, level, rule, chunk, max_points, exact_geometry).values
 
 
 def integrate_with_estimate(

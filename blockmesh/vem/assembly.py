@@ -44,12 +44,19 @@ from scipy.sparse import linalg as sparse_linalg
 
 from blockmesh.checks import choice
 from blockmesh.errors import ArgumentError, ResourceError, SolverError
+from blockmesh.vem.boundary import BoundaryConditions
+from blockmesh.vem.polygons import PolygonMesh
+from blockmesh.vem.rules import check_order
+from blockmesh.vem.stabilization import STABILIZATIONS, check_scale, check_stabilization
 
 __all__ = [
     "SOLVERS",
+    "LinearSystem",
     "SolveInfo",
     "assemble_matrix",
+    "assemble_system",
     "assemble_vector",
+    "check_solve_options",
     "check_tolerance",
     "ordering_for",
     "solve_system",
@@ -210,6 +217,87 @@ def solve_system(
 
 #: How SuperLU words a failed allocation (its ABORT becomes a RuntimeError in scipy).
 _NO_MEMORY = re.compile(r"malloc|memory", re.IGNORECASE)
+
+
+def check_solve_options(
+    order: object,
+    stabilization: object,
+    stabilization_scale: object,
+    constraint: str | None,
+    *,
+    constraints: tuple[str, ...],
+    stabilizations: tuple[str, ...] = tuple(STABILIZATIONS),
+) -> tuple[int, str, float]:
+    """The options every solver takes, checked: the order, the stabilisation and its scale.
+
+    ``constraint`` must be None or one of ``constraints``. Returns the order, the stabilisation
+    and its scale; ArgumentError naming the option otherwise.
+
+    Examples
+    --------
+    >>> check_solve_options(3, "trace", 1, None, constraints=("mean",))
+    (3, 'trace', 1.0)
+    """
+    checked = check_order(order), check_stabilization(stabilization, stabilizations)
+    scale = check_scale(stabilization_scale)
+    if constraint is not None and constraint not in constraints:
+        raise ArgumentError(
+            f"unknown constraint {constraint!r}; choose one of: {', '.join(constraints)}"
+        )
+    return checked[0], checked[1], scale
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """A problem's global system: its matrix and right-hand side, and the Dirichlet values."""
+
+    matrix: sparse.csr_matrix
+    rhs: np.ndarray
+    fixed: np.ndarray
+    values: np.ndarray
+    ordering: str
+
+    def solve(
+        self,
+        *,
+        solver: str,
+        tol: float,
+        constraints: np.ndarray | None = None,
+        near_nullspace: np.ndarray | None = None,
+    ) -> tuple[np.ndarray, SolveInfo]:
+        """:func:`solve_system` of this system."""
+        return solve_system(
+            self.matrix,
+            self.rhs,
+            self.fixed,
+            self.values,
+            solver=solver,
+            tol=tol,
+            constraints=constraints,
+            near_nullspace=near_nullspace,
+            ordering=self.ordering,
+        )
+
+
+def assemble_system(
+    mesh: PolygonMesh,
+    dofs: list[np.ndarray],
+    matrices: list[np.ndarray],
+    loads: list[np.ndarray],
+    bc: BoundaryConditions,
+    order: int,
+) -> LinearSystem:
+    """The global system of ``mesh`` from its cell matrices and loads and the conditions ``bc``.
+
+    ``bc.components`` unknowns per node; the Neumann loads integrated to ``order``.
+    """
+    size = bc.components * mesh.n_points
+    return LinearSystem(
+        assemble_matrix(dofs, matrices, size),
+        assemble_vector(dofs, loads, size) + bc.load(mesh, order),
+        *bc.fixed(mesh),
+        ordering_for(mesh.cell_level),
+    )
 
 
 def _out_of_memory(matrix: sparse.csr_matrix) -> ResourceError:

@@ -40,13 +40,7 @@ import numpy as np
 
 from blockmesh.checks import choice, renamed_keywords
 from blockmesh.errors import ArgumentError, SolverError
-from blockmesh.vem.assembly import (
-    SolveInfo,
-    assemble_matrix,
-    assemble_vector,
-    ordering_for,
-    solve_system,
-)
+from blockmesh.vem.assembly import SolveInfo, assemble_system, check_solve_options
 from blockmesh.vem.boundary import ProblemData, boundary_conditions
 from blockmesh.vem.fields import (
     Field,
@@ -59,7 +53,7 @@ from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.vem.projections import Projections, projections
 from blockmesh.vem.rules import cell_chunks, cell_rule, check_order, points_per_cell
-from blockmesh.vem.stabilization import check_scale, check_stabilization, stabilize
+from blockmesh.vem.stabilization import stabilize
 
 __all__ = ["PLANES", "ElasticitySolution", "elasticity_matrix", "solve_elasticity"]
 
@@ -244,11 +238,14 @@ def solve_elasticity(
     else:
         material = elasticity_matrix(young, poisson, plane)
         nu_cells = np.full(pm.n_cells, float(poisson))
-    order = check_order(order)
-    recipe = check_stabilization(stabilization, ("trace", "diagonal"))
-    scale = check_scale(stabilization_scale)
-    if constraint is not None and constraint != "rigid":
-        raise ArgumentError(f"unknown constraint {constraint!r}; choose one of: rigid")
+    order, recipe, scale = check_solve_options(
+        order,
+        stabilization,
+        stabilization_scale,
+        constraint,
+        constraints=("rigid",),
+        stabilizations=("trace", "diagonal"),
+    )
     force = region_vector_field(source, "body force", names)
     bc = boundary_conditions(
         pm,
@@ -271,23 +268,10 @@ def solve_elasticity(
         load.append(_body_load(pm, group.cells, region, proj, force, order))
         projs.append(proj)
         strains.append(strain_map)
-    size = 2 * pm.n_points
-    matrix = assemble_matrix(dofs, stiffness, size)
-    rhs = assemble_vector(dofs, load, size) + bc.load(pm, order)
-    fixed, values = bc.fixed(pm)
+    system = assemble_system(pm, dofs, stiffness, load, bc, order)
     rigid = _rigid_motions(pm.points)
-    constraints = _free_rigid_motions(rigid, fixed, rhs, constraint)
-    u, info = solve_system(
-        matrix,
-        rhs,
-        fixed,
-        values,
-        solver=solver,
-        tol=tol,
-        constraints=constraints,
-        near_nullspace=rigid,
-        ordering=ordering_for(pm.cell_level),
-    )
+    constraints = _free_rigid_motions(rigid, system.fixed, system.rhs, constraint)
+    u, info = system.solve(solver=solver, tol=tol, constraints=constraints, near_nullspace=rigid)
     strain = np.empty((pm.n_cells, 3))
     for group, d, strain_map in zip(pm.groups, dofs, strains, strict=True):
         strain[group.index] = np.einsum("mak,mk->ma", strain_map, u[d])

@@ -45,13 +45,12 @@ from typing import Any
 import numpy as np
 from scipy.sparse import csgraph
 
-from blockmesh.errors import ArgumentError, SolverError
+from blockmesh.errors import SolverError
 from blockmesh.vem.assembly import (
     SolveInfo,
-    assemble_matrix,
+    assemble_system,
     assemble_vector,
-    ordering_for,
-    solve_system,
+    check_solve_options,
 )
 from blockmesh.vem.boundary import ProblemData, boundary_conditions
 from blockmesh.vem.fields import Field, RegionField, region_field, region_vector_field
@@ -59,7 +58,7 @@ from blockmesh.vem.norms import ErrorNorms, error_norms
 from blockmesh.vem.polygons import PolygonMesh, as_polygon_mesh
 from blockmesh.vem.projections import Projections, projections
 from blockmesh.vem.rules import cell_chunks, cell_rule, check_order, points_per_cell
-from blockmesh.vem.stabilization import check_scale, check_stabilization, stabilize
+from blockmesh.vem.stabilization import stabilize
 
 __all__ = ["CONSTRAINTS", "PoissonSolution", "solve_poisson"]
 
@@ -218,11 +217,9 @@ def solve_poisson(
     """
     started = time.perf_counter()
     pm = as_polygon_mesh(mesh)
-    order = check_order(order)
-    recipe = check_stabilization(stabilization)
-    scale = check_scale(stabilization_scale)
-    if constraint is not None and constraint not in CONSTRAINTS:
-        raise ArgumentError(f"unknown constraint {constraint!r}; choose one of: mean")
+    order, recipe, scale = check_solve_options(
+        order, stabilization, stabilization_scale, constraint, constraints=CONSTRAINTS
+    )
     names = pm.region_names
     f = region_field(source, "source", names)
     kappa = region_field(diffusion, "diffusion", names)
@@ -242,20 +239,11 @@ def solve_poisson(
         load.append(b)
         means.append(mean)
         projs.append(proj)
-    matrix = assemble_matrix(dofs, stiffness, pm.n_points)
-    rhs = assemble_vector(dofs, load, pm.n_points) + bc.load(pm, order)
-    fixed, values = bc.fixed(pm)
-    constraints = _constraints(pm, matrix, fixed, c, constraint, rhs, dofs, means)
-    u, info = solve_system(
-        matrix,
-        rhs,
-        fixed,
-        values,
-        solver=solver,
-        tol=tol,
-        constraints=constraints,
-        ordering=ordering_for(pm.cell_level),
+    system = assemble_system(pm, dofs, stiffness, load, bc, order)
+    constraints = _constraints(
+        pm, system.matrix, system.fixed, c, constraint, system.rhs, dofs, means
     )
+    u, info = system.solve(solver=solver, tol=tol, constraints=constraints)
     gradient = np.empty((pm.n_cells, 2))
     value = np.empty(pm.n_cells)
     for group, proj in zip(pm.groups, projs, strict=True):

@@ -230,12 +230,12 @@ def test_an_error_raised_while_a_signal_unwinds_reports_the_signal(
         except KeyboardInterrupt:  # Terminated is one too
             raise TypeError("the library's state after the interrupt") from None
 
-    monkeypatch.setattr("blockmesh.commands.mesh.write", library_that_converts)
+    monkeypatch.setattr("blockmesh.commands.mesh.single.write", library_that_converts)
     monkeypatch.delenv("BLOCKMESH_DEBUG", raising=False)
     code, _, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(tmp_path / "m.vtu"))
     assert code == 128 + signum, err
     assert "internal error" not in err and ("interrupted" in err or "terminated" in err)
-    monkeypatch.setattr("blockmesh.commands.mesh.write", blockmesh.write)
+    monkeypatch.setattr("blockmesh.commands.mesh.single.write", blockmesh.write)
     code, _, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(tmp_path / "m.vtu"))
     assert code == 0, err  # the record does not outlive the command
 
@@ -244,7 +244,7 @@ def test_unexpected_errors_are_one_line_not_a_traceback(capsys, monkeypatch):
     def broken(*_args, **_kwargs):
         raise ZeroDivisionError("boom")
 
-    monkeypatch.setattr("blockmesh.commands.mesh.refine", broken)
+    monkeypatch.setattr("blockmesh.commands.mesh.single.refine", broken)
     monkeypatch.delenv("BLOCKMESH_DEBUG", raising=False)
     code, out, err = run_cli(capsys, "mesh", "sp")
     assert code == 3 and "internal error (ZeroDivisionError: boom)" in err

@@ -208,14 +208,14 @@ def test_json_of_an_interrupted_or_broken_command(capsys, monkeypatch):
     def interrupted(*_args, **_kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("blockmesh.commands.mesh.refine", interrupted)
+    monkeypatch.setattr("blockmesh.commands.mesh.single.refine", interrupted)
     code, out, err = run_cli(capsys, "mesh", "sp", "--json")
     assert code == 130 and json.loads(out)["error"]["exit_code"] == 130
 
     def broken(*_args, **_kwargs):
         raise ZeroDivisionError("boom")
 
-    monkeypatch.setattr("blockmesh.commands.mesh.refine", broken)
+    monkeypatch.setattr("blockmesh.commands.mesh.single.refine", broken)
     monkeypatch.delenv("BLOCKMESH_DEBUG", raising=False)
     code, out, err = run_cli(capsys, "mesh", "sp", "--json")
     report = json.loads(out)

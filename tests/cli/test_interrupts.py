@@ -9,8 +9,8 @@ import pytest
 from helpers import run_cli
 
 import blockmesh
-import blockmesh.commands.mesh
-import blockmesh.io.xdmf.format as xdmf
+import blockmesh.commands.mesh.single
+import blockmesh.io.xdmf.writer as xdmf
 
 
 class _CtrlCInAFinaliser:
@@ -68,8 +68,8 @@ def test_an_interrupt_swallowed_after_the_commit_still_exits_130(tmp_path, capsy
         _CtrlCInAFinaliser()
         return path
 
-    # the command's own reference (blockmesh.commands.mesh imports write)
-    monkeypatch.setattr(blockmesh.commands.mesh, "write", write_then_interrupted_finaliser)
+    # the command's own reference (blockmesh.commands.mesh.single imports write)
+    monkeypatch.setattr(blockmesh.commands.mesh.single, "write", write_then_interrupted_finaliser)
     code, out, err = run_cli(capsys, "mesh", "sp", "--level", "1", "-o", str(target))
     assert code == 130, err
     assert blockmesh.read(target).n_cells == 6

@@ -55,12 +55,12 @@ def test_the_largest_level_offered_does_fit(capsys):
 
 
 def test_running_out_of_memory_while_writing_is_a_located_error(capsys, tmp_path, monkeypatch):
-    import blockmesh.commands.mesh
+    import blockmesh.commands.mesh.single
 
     def exhausted(*args, **kwargs):
         raise MemoryError
 
-    monkeypatch.setattr(blockmesh.commands.mesh, "write", exhausted)
+    monkeypatch.setattr(blockmesh.commands.mesh.single, "write", exhausted)
     target = tmp_path / "m.vtu"
     code, out, err = run_cli(capsys, "mesh", "sp", "--level", "3", "-o", str(target))
     assert code == 2 and out == "" and "Traceback" not in err

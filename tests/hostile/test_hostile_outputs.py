@@ -152,13 +152,13 @@ def test_a_failed_templated_write_leaves_no_folder(tmp_path):
 
 
 def test_a_failed_templated_write_removes_the_folders_it_made(tmp_path, monkeypatch, capsys):
-    import blockmesh.commands.mesh
+    import blockmesh.commands.mesh.single
     from blockmesh.cli import main
 
     def failing(*_args, **_kwargs):
         raise ExportError("the disk is full (simulated)")
 
-    monkeypatch.setattr(blockmesh.commands.mesh, "write", failing)  # the command's reference
+    monkeypatch.setattr(blockmesh.commands.mesh.single, "write", failing)  # the command's reference
     monkeypatch.chdir(tmp_path)
     code = main(["mesh", "sp", "--level", "1", "-o", "new/{name}/m-{level}.vtu"])
     assert code == 2 and "simulated" in capsys.readouterr().err

@@ -249,7 +249,7 @@ def _breaking_points() -> list[tuple[str, str, str]]:
     return [
         ("vtu", "blockmesh.io.vtu.writer", "_write_raw"),
         ("vtk", "blockmesh.io.vtk.format", "_field_block"),
-        ("xdmf", "blockmesh.io.xdmf.format", "_xdmf_tree"),
+        ("xdmf", "blockmesh.io.xdmf.writer", "_xdmf_tree"),
         ("msh", "blockmesh.io.msh.writer", "_write_blocks"),
         ("mat", "scipy.io", "savemat"),
         ("npz", "numpy", "savez"),

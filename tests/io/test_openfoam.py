@@ -22,7 +22,7 @@ import blockmesh.io as bio
 import blockmesh.io.openfoam.writer as openfoam_writer
 import blockmesh.io.text as text
 from blockmesh.errors import ExportError, TopologyError
-from blockmesh.io.openfoam.reader import foam_file, read_boundary, read_faces, read_list
+from blockmesh.io.openfoam.files import foam_file, read_boundary, read_faces, read_list
 from blockmesh.mesh import Mesh
 
 

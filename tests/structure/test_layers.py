@@ -47,13 +47,13 @@ DEFERRED: dict[tuple[str, str], str] = {
     ("blockmesh.commands.integrate", "blockmesh.distributed"): (
         "optional extra: Dask is imported only for --partitions / --scheduler"
     ),
-    ("blockmesh.commands.mesh", "blockmesh.distributed"): (
+    ("blockmesh.commands.mesh.partitioned", "blockmesh.distributed"): (
         "optional extra: Dask is imported only for --partitions / --scheduler"
     ),
-    ("blockmesh.commands.mesh", "blockmesh.distributed.files"): (
+    ("blockmesh.commands.mesh.partitioned", "blockmesh.distributed.files"): (
         "optional extra: Dask is imported only for --partitions / --scheduler"
     ),
-    ("blockmesh.commands.mesh", "blockmesh.plot"): (
+    ("blockmesh.commands.mesh.single", "blockmesh.plot"): (
         "start-up: matplotlib (about 0.3 s) is imported only when a picture is asked for"
     ),
     ("blockmesh.commands.solve", "blockmesh.vem.plot"): (

@@ -37,21 +37,20 @@ from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells
 from blockmesh.io.common import check_points
-from blockmesh.io.openfoam.reader import (
+from blockmesh.io.openfoam.files import (
     FaceSizeError,
-    _find_polymesh,
-    _Inflated,
-    _list_size,
-    _read_face_zones,
-    _read_zones,
+    Inflated,
+    find_polymesh,
     foam_file,
+    list_size,
     read_boundary,
+    read_face_zones,
     read_faces,
     read_list,
-    side_edges,
-    zone_interfaces,
+    read_zones,
 )
 from blockmesh.io.openfoam.reader import read_openfoam as read_pentagon_case
+from blockmesh.io.openfoam.reader import side_edges, zone_interfaces
 from blockmesh.io.polygons import polygon_mesh_from_arrays
 from blockmesh.io.text import parse_numbers
 from blockmesh.mesh.mesh import Mesh
@@ -78,7 +77,7 @@ def _face_text(poly: Path) -> tuple[bytes, str]:
             if path is plain:
                 guard.allocate(os.fstat(raw.fileno()).st_size, "the faces")
                 return raw.read(), where
-            stream = _Inflated(raw, where)  # counted against what the files may expand to
+            stream = Inflated(raw, where)  # counted against what the files may expand to
             chunks = []
             while chunk := stream.read(1 << 22):
                 guard.allocate(len(chunk), "the faces")
@@ -193,7 +192,7 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
         edges.append(side_edges(quads, on_bottom, f"{where}: patch {p['name']}"))
         patch.append(np.full(quads.shape[0], len(names)))
         names.append(p["name"])
-    zones = _read_zones(poly, n_cells)
+    zones = read_zones(poly, n_cells)
     region, region_names = zones if zones is not None else (None, None)
     interfaces = _interfaces(poly, on_bottom, new_id, where)
     case = poly.parent.parent if poly.parent.name == "constant" else poly
@@ -217,8 +216,8 @@ def _interfaces(
 ) -> dict[str, Any]:
     """The interfaces of a polygon case from its face zones (none without ``faceZones``)."""
     with foam_file(poly, "neighbour") as (r, _):
-        n_internal = _list_size(r)
-    face_zones = _read_face_zones(poly, n_internal)
+        n_internal = list_size(r)
+    face_zones = read_face_zones(poly, n_internal)
     if face_zones is None or not n_internal:
         return {}
     internal = read_faces(poly, [(0, n_internal, 4)])[0]
@@ -235,5 +234,5 @@ def read_openfoam(path: Path) -> Mesh | PolygonMesh:
     try:
         return read_pentagon_case(path)
     except FaceSizeError:
-        poly = _find_polymesh(Path(path).absolute())
+        poly = find_polymesh(Path(path).absolute())
         return polygon_mesh_from_arrays(where=str(poly), **read_polygon_case(poly))

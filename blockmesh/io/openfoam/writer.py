@@ -19,7 +19,8 @@ from typing import BinaryIO
 
 import numpy as np
 
-from blockmesh._system.atomic import atomic_dir, atomic_file, export_errors
+from blockmesh._system.atomic import atomic_dir, atomic_file
+from blockmesh._system.targets import export_errors
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells, boundary_slots, cell_neighbours
 from blockmesh.io.names import FOAM_WORD

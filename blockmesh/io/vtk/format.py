@@ -47,16 +47,12 @@ from blockmesh._system.bounded import open_regular
 from blockmesh.errors import ExportError
 from blockmesh.io.common import Format, decode_metadata, mesh_from_arrays
 from blockmesh.io.polygons import is_polygon_file
-from blockmesh.io.sandbox import read_with_meshio
 from blockmesh.io.vtk.stream import read_stream
 from blockmesh.io.vtu.format import (
     field_data,
-    holds_polygons,
-    meshio_arrays,
     meshio_mesh,
-    own_arrays,
     padded_arrays,
-    polygon_mesh_from_meshio,
+    read_foreign,
 )
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -241,13 +237,7 @@ def read_vtk(path: Path) -> Mesh | PolygonMesh:
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    vm = read_with_meshio(path, "vtk")  # another tool's file: in a child process, with limits
-    vm.field_data = {**vm.field_data, **fields}
-    if holds_polygons(vm, meta):
-        return polygon_mesh_from_meshio(vm, meta, where)
-    arrays = meshio_arrays(vm, meta, where)
-    del vm  # meshio's copies are freed (one by one, by own_arrays) before the Mesh is built
-    return mesh_from_arrays(where=where, **own_arrays(arrays))
+    return read_foreign(path, "vtk", meta=meta, fields=fields)  # another tool's file
 
 
 FORMAT = Format(

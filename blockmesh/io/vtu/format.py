@@ -57,6 +57,7 @@ Examples
 from __future__ import annotations
 
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
@@ -102,6 +103,7 @@ __all__ = [
     "own_arrays",
     "padded_arrays",
     "polygon_mesh_from_meshio",
+    "read_foreign",
     "read_vtu",
     "write_vtu",
 ]
@@ -241,11 +243,13 @@ def _meshio_polygons(mesh: PolygonMesh) -> meshio.Mesh:
     )
 
 
-def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> PolygonMesh:
-    """A :class:`PolygonMesh` from a meshio mesh of polygons of any sizes (and their lines).
+Blocks = list[tuple[int, np.ndarray]]
 
-    The cells are taken in the file's order, or in the order of the cell data ``cell_index``
-    when present (blockmesh writes one block per vertex count).
+
+def _cell_blocks(vm: meshio.Mesh, where: str, reads: str) -> tuple[Blocks, Blocks]:
+    """The polygon blocks and the line blocks of ``vm`` as (index, data); ExportError for others.
+
+    ``reads`` says what the caller reads, for the message.
     """
     blocks = [(k, c.type, np.asarray(c.data)) for k, c in enumerate(vm.cells)]
     polys = [(k, d) for k, t, d in blocks if t in ("polygon", "pentagon")]
@@ -253,9 +257,41 @@ def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Polygon
     others = sorted({t for _, t, _ in blocks} - {"polygon", "pentagon", "line"})
     if others or not polys:
         raise ExportError(
-            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads polygon "
-            "meshes (polygon cells, optionally with boundary lines)"
+            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads {reads}"
         )
+    return polys, lines
+
+
+def _line_arrays(
+    vm: meshio.Mesh,
+    meta: dict,
+    lines: Blocks,
+    gather: Callable[[str, Blocks], np.ndarray | None],
+) -> tuple[dict[str, Any], list[str] | None]:
+    """The line blocks as boundary and interface edges (:func:`split_lines`), and the patch names.
+
+    ``gather(name, blocks)`` is the cell data ``name`` of those blocks, or None.
+    """
+    edges = np.concatenate([d for _, d in lines]) if lines else None
+    patch = gather("patch", lines) if lines else None
+    patch_names = _names(meta, vm.field_data, "patch")
+    if edges is not None and patch is None:
+        patch_names = patch_names or ["boundary"]
+    lines_split = split_lines(edges, patch, gather("interface", lines) if lines else None)
+    if lines_split["boundary_edges"] is None and meta:
+        lines_split["boundary_edges"] = np.empty((0, 2))
+    return lines_split, patch_names
+
+
+def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> PolygonMesh:
+    """A :class:`PolygonMesh` from a meshio mesh of polygons of any sizes (and their lines).
+
+    The cells are taken in the file's order, or in the order of the cell data ``cell_index``
+    when present (blockmesh writes one block per vertex count).
+    """
+    polys, lines = _cell_blocks(
+        vm, where, "polygon meshes (polygon cells, optionally with boundary lines)"
+    )
 
     def gather(name: str, which: list[tuple[int, np.ndarray]]) -> np.ndarray | None:
         if name not in vm.cell_data:
@@ -275,14 +311,7 @@ def polygon_mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Polygon
         run = np.repeat(starts - offsets[:-1], sizes)
         nodes = nodes[np.arange(nodes.size) + run]
         columns = {k: None if v is None else v[order] for k, v in columns.items()}
-    edges = np.concatenate([d for _, d in lines]) if lines else None
-    patch = gather("patch", lines) if lines else None
-    patch_names = _names(meta, vm.field_data, "patch")
-    if edges is not None and patch is None:
-        patch_names = patch_names or ["boundary"]
-    lines_split = split_lines(edges, patch, gather("interface", lines) if lines else None)
-    if lines_split["boundary_edges"] is None and meta:
-        lines_split["boundary_edges"] = np.empty((0, 2))
+    lines_split, patch_names = _line_arrays(vm, meta, lines, gather)
     return polygon_mesh_from_arrays(
         vm.points,
         offsets,
@@ -372,15 +401,9 @@ def mesh_from_meshio(vm: meshio.Mesh, meta: dict, where: str) -> Mesh:
 
 def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
     """The arguments of :func:`mesh_from_arrays` for :func:`mesh_from_meshio`."""
-    blocks = [(k, c.type, c.data) for k, c in enumerate(vm.cells)]
-    polys = [(k, d) for k, t, d in blocks if t in ("polygon", "pentagon")]
-    lines = [(k, d) for k, t, d in blocks if t == "line"]
-    others = sorted({t for _, t, _ in blocks} - {"polygon", "pentagon", "line"})
-    if others or not polys:
-        raise ExportError(
-            f"{where} holds {', '.join(others) or 'no polygon'} cells; blockmesh reads pentagon "
-            "meshes only (polygons of 5 nodes, optionally with boundary lines)"
-        )
+    polys, lines = _cell_blocks(
+        vm, where, "pentagon meshes only (polygons of 5 nodes, optionally with boundary lines)"
+    )
     if any(np.asarray(d).ndim != 2 or np.asarray(d).shape[1] != 5 for _, d in polys):
         raise ExportError(f"{where}: some polygons do not have 5 nodes; blockmesh reads pentagons")
 
@@ -391,14 +414,7 @@ def meshio_arrays(vm: meshio.Mesh, meta: dict, where: str) -> dict[str, Any]:
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
     cells = polys[0][1] if len(polys) == 1 else np.concatenate([d for _, d in polys])
-    edges = np.concatenate([d for _, d in lines]) if lines else None
-    patch = gather("patch", lines) if lines else None
-    patch_names = _names(meta, vm.field_data, "patch")
-    if edges is not None and patch is None:
-        patch_names = patch_names or ["boundary"]
-    lines_split = split_lines(edges, patch, gather("interface", lines) if lines else None)
-    if lines_split["boundary_edges"] is None and meta:
-        lines_split["boundary_edges"] = np.empty((0, 2))
+    lines_split, patch_names = _line_arrays(vm, meta, lines, gather)
     return {
         "points": vm.points,
         "cells": cells,
@@ -482,9 +498,30 @@ def read_vtu(path: Path) -> Mesh | PolygonMesh:
         )
         del parts  # the -1 padding of the cell data is freed before the Mesh is built
         return mesh_from_arrays(where=where, **arrays)
-    vm = read_with_meshio(path, "vtu")  # another tool's file: in a child process, with limits
-    raw = vm.field_data.get(_FIELD)
-    meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
+    return read_foreign(path, "vtu")  # another tool's file
+
+
+def read_foreign(
+    path: Path,
+    kind: str,
+    *,
+    meta: dict | None = None,
+    fields: dict[str, np.ndarray] | None = None,
+) -> Mesh | PolygonMesh:
+    """A mesh from a ``kind`` file (``"vtu"`` or ``"vtk"``) of another tool, read with meshio.
+
+    meshio reads it in a child process with memory and time limits
+    (:mod:`blockmesh.io.sandbox`). ``fields`` (field data read beforehand) are added to the
+    file's; ``meta`` is the JSON metadata when already decoded, else it is decoded from the field
+    data. Polygons of other sizes than five make a :class:`PolygonMesh`.
+    """
+    where = str(path)
+    vm = read_with_meshio(path, kind)  # in a child process, with limits
+    if fields is not None:
+        vm.field_data = {**vm.field_data, **fields}
+    if meta is None:
+        raw = vm.field_data.get(_FIELD)
+        meta = decode_metadata(None if raw is None else np.asarray(raw).astype(np.uint8), where)
     if holds_polygons(vm, meta):
         return polygon_mesh_from_meshio(vm, meta, where)
     arrays = meshio_arrays(vm, meta, where)
