@@ -35,7 +35,7 @@ import blockmesh.domain.compose as compose
 from blockmesh import Domain
 from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 from blockmesh.domain.parts import part_from_table
-from blockmesh.domain.validate import NEAR_TOL
+from blockmesh.domain.validate.tolerances import NEAR_TOL
 
 
 def composites() -> list[str]:

@@ -54,7 +54,7 @@ from blockmesh.curves.types import Arc, Curve
 from blockmesh.decompose.fragments import decompose_faces
 from blockmesh.domain.interfaces import check_interface_name, default_interface_name
 from blockmesh.domain.parts import Outline, Part
-from blockmesh.domain.validate import NEAR_TOL
+from blockmesh.domain.validate.tolerances import NEAR_TOL
 from blockmesh.errors import BlockMeshWarning, DomainError, DomainFormatError, fmt_point
 from blockmesh.geometry.topology import graph_components
 

@@ -49,16 +49,11 @@ from blockmesh.domain.parts import part_from_shapely, part_from_table, part_from
 from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
 from blockmesh.domain.sized import DomainGeometry, resized
 from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
-from blockmesh.domain.validate import (
-    Ring,
-    check_block_shapes,
-    check_rings,
-    check_topology,
-    parse_blocks,
-    parse_points,
-    resolve_patches,
-    resolve_regions,
-)
+from blockmesh.domain.validate.blocks import check_block_shapes, parse_blocks
+from blockmesh.domain.validate.names import resolve_patches, resolve_regions
+from blockmesh.domain.validate.points import parse_points
+from blockmesh.domain.validate.rings import Ring, check_rings
+from blockmesh.domain.validate.topology import check_topology
 from blockmesh.errors import (
     ArgumentError,
     ArgumentTypeError,

@@ -34,7 +34,8 @@ from blockmesh.curves.types import Arc
 from blockmesh.domain.curved_polygons import _circle_fields, _edge_key
 from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
 from blockmesh.domain.tomlio import _polygon_arcs, _toml_type
-from blockmesh.domain.validate import DEFAULT_PATCH, _check_name, parse_points
+from blockmesh.domain.validate.names import DEFAULT_PATCH, check_name
+from blockmesh.domain.validate.points import parse_points
 from blockmesh.errors import ArgumentTypeError, DomainError, DomainFormatError
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
 
@@ -170,7 +171,7 @@ def part_from_table(table: object, k: int, source: str = "") -> Part:
 
 def _region_name(value: object, where: str) -> str:
     try:
-        return _check_name(value, "region")
+        return check_name(value, "region")
     except DomainFormatError as error:
         raise DomainFormatError(f"{where}: {error}") from None
 
