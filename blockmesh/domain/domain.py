@@ -48,7 +48,8 @@ from blockmesh.domain.interfaces import resolve_interfaces
 from blockmesh.domain.parts import part_from_shapely, part_from_table, part_from_value
 from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
 from blockmesh.domain.sized import DomainGeometry, resized
-from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
+from blockmesh.domain.tomlio.layout import parse_domain_text, read_domain_file
+from blockmesh.domain.tomlio.writing import dumps_domain
 from blockmesh.domain.validate.blocks import check_block_shapes, parse_blocks
 from blockmesh.domain.validate.names import resolve_patches, resolve_regions
 from blockmesh.domain.validate.points import parse_points
