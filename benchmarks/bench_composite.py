@@ -31,9 +31,13 @@ import shapely
 from _page import Page, add_arguments
 
 import blockmesh
-import blockmesh.domain.compose as compose
 from blockmesh import Domain
+from blockmesh.decompose.fragments import decompose_faces
 from blockmesh.domain.catalogue import catalogue_names, catalogue_path
+from blockmesh.domain.compose import MIN_ANGLE, extent
+from blockmesh.domain.compose.arrangement import Arrangement
+from blockmesh.domain.compose.circles import circles_of, crossings, follow
+from blockmesh.domain.compose.fragments import SourcePieces, fragments, part_shape
 from blockmesh.domain.parts import part_from_table
 from blockmesh.domain.validate.tolerances import NEAR_TOL
 
@@ -67,23 +71,23 @@ def parts_of(name: str) -> list:
 def stages(parts: list) -> tuple[float, float]:
     """Seconds of the fragmenting (up to the checked arrangement) and of the decomposition."""
     start = time.perf_counter()
-    size = compose._size(parts)
+    size = extent(parts)
     tol = NEAR_TOL * size
-    circles = compose._circles(parts, size)
-    splits = compose._crossings(parts, circles, tol)
+    circles = circles_of(parts, size)
+    splits = crossings(parts, circles, tol)
     for circle in circles.items:
         circle.sample()
     rings = [
-        [[compose._follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
+        [[follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
          for j, polygon in enumerate(part.polygons)]
         for i, part in enumerate(parts)
     ]  # fmt: skip
-    shapes = [compose._part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
-    regions = compose._fragments(parts, shapes)
-    pieces = compose._SourcePieces(parts, rings)
-    arrangement = compose._Arrangement.of(parts, regions, pieces, tol)
+    shapes = [part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
+    regions = fragments(parts, shapes)
+    pieces = SourcePieces(parts, rings)
+    arrangement = Arrangement.of(parts, regions, pieces, tol)
     middle = time.perf_counter()
-    compose.decompose_faces(arrangement.points, arrangement.faces, min_angle=compose.MIN_ANGLE)
+    decompose_faces(arrangement.points, arrangement.faces, min_angle=MIN_ANGLE)
     return middle - start, time.perf_counter() - middle
 
 
