@@ -34,12 +34,8 @@ import blockmesh
 from blockmesh import Domain
 from blockmesh.decompose.fragments import decompose_faces
 from blockmesh.domain.catalogue import catalogue_names, catalogue_path
-from blockmesh.domain.compose import MIN_ANGLE, extent
-from blockmesh.domain.compose.arrangement import Arrangement
-from blockmesh.domain.compose.circles import circles_of, crossings, follow
-from blockmesh.domain.compose.fragments import SourcePieces, fragments, part_shape
+from blockmesh.domain.compose import MIN_ANGLE, arrange, extent
 from blockmesh.domain.parts import part_from_table
-from blockmesh.domain.validate.tolerances import NEAR_TOL
 
 
 def composites() -> list[str]:
@@ -71,21 +67,7 @@ def parts_of(name: str) -> list:
 def stages(parts: list) -> tuple[float, float]:
     """Seconds of the fragmenting (up to the checked arrangement) and of the decomposition."""
     start = time.perf_counter()
-    size = extent(parts)
-    tol = NEAR_TOL * size
-    circles = circles_of(parts, size)
-    splits = crossings(parts, circles, tol)
-    for circle in circles.items:
-        circle.sample()
-    rings = [
-        [[follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
-         for j, polygon in enumerate(part.polygons)]
-        for i, part in enumerate(parts)
-    ]  # fmt: skip
-    shapes = [part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
-    regions = fragments(parts, shapes)
-    pieces = SourcePieces(parts, rings)
-    arrangement = Arrangement.of(parts, regions, pieces, tol)
+    _, _, arrangement = arrange(parts, extent(parts))
     middle = time.perf_counter()
     decompose_faces(arrangement.points, arrangement.faces, min_angle=MIN_ANGLE)
     return middle - start, time.perf_counter() - middle

@@ -53,7 +53,13 @@ import numpy as np
 from blockmesh.decompose.fragments import decompose_faces
 from blockmesh.domain.compose.arrangement import Arrangement
 from blockmesh.domain.compose.build import BlocksFailError, build_domain, interface_renames
-from blockmesh.domain.compose.circles import CIRCLE_PIECES, circles_of, crossings, follow
+from blockmesh.domain.compose.circles import (
+    CIRCLE_PIECES,
+    Circles,
+    circles_of,
+    crossings,
+    follow,
+)
 from blockmesh.domain.compose.fragments import (
     SourcePieces,
     fragments,
@@ -99,23 +105,8 @@ def compose_parts(
     check_region_names(parts)
     renames = interface_renames(interfaces, parts)
     size = extent(parts)
-    tol = NEAR_TOL * size
     for attempt, finer in enumerate(FINER):
-        circles = circles_of(parts, size)
-        splits = crossings(parts, circles, tol)
-        for circle in circles.items:
-            circle.sample(finer)
-        rings = [
-            [[follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
-             for j, polygon in enumerate(part.polygons)]
-            for i, part in enumerate(parts)
-        ]  # fmt: skip
-        shapes = [part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
-        regions = fragments(parts, shapes)
-        pieces = SourcePieces(parts, rings)
-        if attempt == 0:
-            report_filled_holes(parts, rings, regions, tol)
-        arrangement = Arrangement.of(parts, regions, pieces, tol)
+        circles, pieces, arrangement = arrange(parts, size, finer, report=attempt == 0)
         result = decompose_faces(arrangement.points, arrangement.faces, min_angle=MIN_ANGLE)
         try:
             return build_domain(
@@ -126,6 +117,33 @@ def compose_parts(
             if not circles.items or finer == FINER[-1]:
                 raise failed.error from None
     raise AssertionError("unreachable")  # pragma: no cover
+
+
+def arrange(
+    parts: list[Part], size: float, finer: int = 1, *, report: bool = False
+) -> tuple[Circles, SourcePieces, Arrangement]:
+    """Steps 1 to 3: the circles followed, the parts fragmented, the arrangement checked.
+
+    ``size`` is the parts' :func:`extent`, ``finer`` how many times finer the circles are
+    followed (:data:`FINER`); with ``report``, a hole that a later part fills is reported (a
+    warning). Returns the circles, the pieces of the outlines and the checked arrangement.
+    """
+    tol = NEAR_TOL * size
+    circles = circles_of(parts, size)
+    splits = crossings(parts, circles, tol)
+    for circle in circles.items:
+        circle.sample(finer)
+    rings = [
+        [[follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
+         for j, polygon in enumerate(part.polygons)]
+        for i, part in enumerate(parts)
+    ]  # fmt: skip
+    shapes = [part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
+    regions = fragments(parts, shapes)
+    pieces = SourcePieces(parts, rings)
+    if report:
+        report_filled_holes(parts, rings, regions, tol)
+    return circles, pieces, Arrangement.of(parts, regions, pieces, tol)
 
 
 def check_region_names(parts: list[Part]) -> None:
