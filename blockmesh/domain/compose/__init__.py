@@ -45,8 +45,8 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -66,14 +66,14 @@ from blockmesh.domain.compose.fragments import (
     part_shape,
     report_filled_holes,
 )
-from blockmesh.domain.parts import Part
+from blockmesh.domain.parts import Part, part_from_value
 from blockmesh.domain.validate.tolerances import NEAR_TOL
-from blockmesh.errors import DomainError
+from blockmesh.errors import ArgumentTypeError, DomainError
 
 if TYPE_CHECKING:
     from blockmesh.domain.domain import Domain
 
-__all__ = ["CIRCLE_PIECES", "MIN_ANGLE", "compose_parts"]
+__all__ = ["CIRCLE_PIECES", "MIN_ANGLE", "compose_mapping", "compose_parts"]
 #: How many times finer circles are followed when the blocks along them do not stay convex with
 #: their arcs (a chord's bulge larger than the blocks beside it, as where two circles cross at a
 #: sharp angle): each try doubles the chords of every circle.
@@ -117,6 +117,34 @@ def compose_parts(
             if not circles.items or finer == FINER[-1]:
                 raise failed.error from None
     raise AssertionError("unreachable")  # pragma: no cover
+
+
+def compose_mapping(
+    cls: type[Domain],
+    parts: Mapping[str, Any],
+    *,
+    name: str = "composite",
+    description: str = "",
+    patches: Mapping[str, Mapping[str, Iterable[int | str]]] | None = None,
+    interfaces: Mapping[str, str] | None = None,
+) -> Domain:
+    """The Domain of :meth:`blockmesh.Domain.compose` (see there), as ``cls``."""
+    if not isinstance(parts, Mapping):
+        raise ArgumentTypeError(
+            f"compose takes a mapping of region name to part, got {type(parts).__name__}"
+        )
+    patches = patches or {}
+    unknown = sorted(set(patches) - set(parts))
+    if unknown:
+        raise DomainError(
+            f"patches name the region {unknown[0]!r}, but the parts are "
+            f"{', '.join(map(str, parts))}"
+        )
+    listed = [
+        part_from_value(cls, region, value, k, patches.get(region))
+        for k, (region, value) in enumerate(parts.items())
+    ]
+    return compose_parts(cls, listed, name=name, description=description, interfaces=interfaces)
 
 
 def arrange(

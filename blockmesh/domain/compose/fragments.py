@@ -147,5 +147,5 @@ def report_filled_holes(
                         f"{share} it, so its edge is read as the interface {interface!r} "
                         "between them (a hole stays empty only where no part covers it)",
                         BlockMeshWarning,
-                        stacklevel=5,
+                        stacklevel=6,
                     )

@@ -12,11 +12,14 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["dumps_domain"]
+from blockmesh._system.atomic import as_path, atomic_file
+
+__all__ = ["dumps_domain", "write_domain"]
 
 
 def _float(x: float) -> str:
@@ -80,6 +83,14 @@ def dumps_domain(domain) -> str:
         for name, value in curve.to_fields().items():
             lines.append(f"{name} = {_toml_value(value)}")
     return "\n".join(lines) + "\n"
+
+
+def write_domain(domain, path: str | Path) -> Path:
+    """Write :func:`dumps_domain` of ``domain`` to ``path`` atomically (temporary file, rename)."""
+    path = as_path(path)
+    with atomic_file(path) as temporary:
+        temporary.write_text(dumps_domain(domain), encoding="utf-8")
+    return path
 
 
 def _toml_value(value: Any) -> str:

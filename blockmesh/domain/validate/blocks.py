@@ -166,7 +166,7 @@ def check_block_shapes(vertices: np.ndarray, blocks: np.ndarray, *, repair: bool
             f"{clockwise.size} block{'s were' if clockwise.size > 1 else ' was'} clockwise and "
             f"reversed to counter-clockwise order (first vertex kept): {shown}",
             BlockMeshWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
     sines = corner_sines(xy)
     angles = interior_angles(xy)

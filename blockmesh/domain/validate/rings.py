@@ -147,7 +147,7 @@ def check_rings(
                     "the polygon was given clockwise; its vertices were reversed to "
                     "counter-clockwise order (vertex 0 stays first)",
                     BlockMeshWarning,
-                    stacklevel=4,
+                    stacklevel=5,
                 )
             vertex = np.r_[0, np.arange(n - 1, 0, -1)]
         checked = Ring(pts[vertex], vertex, bool(backwards), pts)
@@ -162,7 +162,7 @@ def _drop_closing_vertex(pts: np.ndarray, ring: int) -> np.ndarray:
             f"the last vertex {fmt_point(pts[-1])} of {ring_label(ring)} repeats the first; it was "
             "dropped (a ring is closed automatically)",
             BlockMeshWarning,
-            stacklevel=5,
+            stacklevel=6,
         )
         return pts[:-1]
     return pts
@@ -305,7 +305,7 @@ def _drop_straight_corners(ring: Ring, r: int, edge_patch: list[str | None] | No
         f"{names}{more} lie{'s' if straight.size == 1 else ''} on a straight line between "
         "neighbouring corners; dropped (a straight corner is kept only where two patches meet)",
         BlockMeshWarning,
-        stacklevel=5,
+        stacklevel=6,
     )
     keep_ids = np.setdiff1d(np.arange(ring.points.shape[0]), straight)
     if keep_ids.size < 3:
