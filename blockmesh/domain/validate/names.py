@@ -111,12 +111,7 @@ def resolve_patches(
                 )
             patch[k] = k_name
     raise_problems(DomainError, problems)
-    if np.any(patch < 0):
-        if DEFAULT_PATCH in names:
-            patch[patch < 0] = names.index(DEFAULT_PATCH)
-        else:
-            names.append(DEFAULT_PATCH)
-            patch[patch < 0] = len(names) - 1
+    _name_the_rest(patch, names, DEFAULT_PATCH)
     used = np.unique(patch)
     empty = [n for k, n in enumerate(names) if k not in used]
     raise_problems(
@@ -184,10 +179,15 @@ def resolve_regions(
             else:
                 region[b] = len(names) - 1
     raise_problems(DomainError, problems)
-    if np.any(region < 0):
-        if DEFAULT_REGION in names:
-            region[region < 0] = names.index(DEFAULT_REGION)
-        else:
-            names.append(DEFAULT_REGION)
-            region[region < 0] = len(names) - 1
+    _name_the_rest(region, names, DEFAULT_REGION)
     return tuple(names), region
+
+
+def _name_the_rest(index: np.ndarray, names: list[str], default: str) -> None:
+    """Give every entry of ``index`` still unnamed (-1) the name ``default`` (added if new)."""
+    if np.any(index < 0):
+        if default in names:
+            index[index < 0] = names.index(default)
+        else:
+            names.append(default)
+            index[index < 0] = len(names) - 1
