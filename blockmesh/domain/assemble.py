@@ -142,24 +142,17 @@ def trusted(cls: type[Domain], *, neighbour: np.ndarray, **values: Any) -> Domai
 
 
 def blocks_domain(
-    cls: type[Domain],
-    vertices: Any,
-    blocks: Any,
-    patches: Mapping[str, Iterable] | None = None,
-    regions: Mapping[str, Iterable[int]] | None = None,
-    *,
-    name: str = "blocks",
-    description: str = "",
-    layout: str = "blocks",
-    merge_tol: float | None = None,
-    boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
-    block_source: Any = None,
-    edges: Mapping[tuple[int, int], Curve] | None = None,
-    interfaces: Mapping[str, Iterable] | None = None,
-    components: int = 1,
-    grading: Mapping[tuple[int, int], float] | None = None,
+    cls: type[Domain], vertices: Any, blocks: Any, patches: Any, regions: Any, **options: Any
 ) -> Domain:
-    """The Domain of :meth:`blockmesh.Domain.from_blocks` (see there), as ``cls``."""
+    """The Domain of :meth:`blockmesh.Domain.from_blocks` (see there), as ``cls``.
+
+    ``options`` are the method's keywords: ``merge_tol`` merges the vertices first (and maps
+    the vertex ids of ``patches``, ``interfaces``, ``edges`` and ``grading``); the others go to
+    :func:`from_parsed` as they are.
+    """
+    merge_tol = options.pop("merge_tol", None)
+    edges, grading = options.pop("edges", None), options.pop("grading", None)
+    interfaces = options.pop("interfaces", None)
     points = parse_points(vertices, "vertex")
     block_ids = parse_blocks(blocks, points.shape[0])
     if merge_tol is not None:
@@ -175,15 +168,10 @@ def blocks_domain(
         block_ids,
         patches,
         regions,
-        name=name,
-        description=description,
-        layout=layout,
-        boundary_source=boundary_source,
-        block_source=block_source,
         edges=edges,
         interfaces=interfaces,
-        components=components,
         grading=grading,
+        **options,
     )
 
 

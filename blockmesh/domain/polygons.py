@@ -26,7 +26,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from blockmesh.checks import readonly
-from blockmesh.curves.types import Curve
 from blockmesh.decompose import decompose_polygon
 from blockmesh.decompose.polygon import check_corner_count
 from blockmesh.domain.compose import compose_parts
@@ -44,25 +43,19 @@ __all__ = ["edge_chains", "polygon_domain", "shapely_domain"]
 
 
 def polygon_domain(
-    cls: type[Domain],
-    coords: Any,
-    holes: Iterable[Any] | None = None,
-    *,
-    name: str = "polygon",
-    patches: Mapping[str, Iterable[int | str]] | None = None,
-    description: str = "",
-    arcs: Mapping[int | str, Curve] | None = None,
-    circles: Iterable[Mapping[str, Any]] | None = None,
-    size: Any = None,
+    cls: type[Domain], coords: Any, holes: Any = None, *, size: Any = None, **options: Any
 ) -> Domain:
-    """The Domain of :meth:`blockmesh.Domain.from_polygon` (see there), as ``cls``."""
+    """The Domain of :meth:`blockmesh.Domain.from_polygon` (see there), as ``cls``.
+
+    ``options`` are the method's other keywords (``name``, ``patches``, ``description``,
+    ``arcs``, ``circles``).
+    """
+    name, description = options.get("name", "polygon"), options.get("description", "")
+    patches, arcs, circles = options.get("patches"), options.get("arcs"), options.get("circles")
     holes = hole_list(holes) if holes is not None else []
     check_corner_count(sum(len(r) if hasattr(r, "__len__") else 0 for r in (coords, *holes)))
     if size is not None:
-        unsized = polygon_domain(
-            cls, coords, holes, name=name, patches=patches, description=description, arcs=arcs,
-            circles=circles,
-        )  # fmt: skip
+        unsized = polygon_domain(cls, coords, holes, **options)
         return unsized.with_size(size)
     patches = facing_resolved(patches, coords)
     if arcs or circles:  # decomposed through the chords, then curved: domain.curved_polygons
@@ -104,15 +97,14 @@ def polygon_domain(
 
 
 def shapely_domain(
-    cls: type[Domain],
-    polygon: Any,
-    *,
-    name: str = "polygon",
-    patches: Mapping[str, Iterable[int | str]] | None = None,
-    description: str = "",
-    region: str | Iterable[str] | None = None,
+    cls: type[Domain], polygon: Any, *, region: Any = None, **options: Any
 ) -> Domain:
-    """The Domain of :meth:`blockmesh.Domain.from_shapely` (see there), as ``cls``."""
+    """The Domain of :meth:`blockmesh.Domain.from_shapely` (see there), as ``cls``.
+
+    ``options`` are the method's other keywords (``name``, ``patches``, ``description``).
+    """
+    name, description = options.get("name", "polygon"), options.get("description", "")
+    patches = options.get("patches")
     import shapely
 
     if isinstance(polygon, shapely.MultiPolygon | shapely.GeometryCollection):
@@ -132,9 +124,7 @@ def shapely_domain(
     # shapely keeps rings either way round: reversing a clockwise one is no news to report.
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        domain = polygon_domain(
-            cls, exterior, holes, name=name, patches=patches, description=description
-        )
+        domain = polygon_domain(cls, exterior, holes, **options)
     for warning in caught:
         if not str(warning.message).startswith("the polygon was given clockwise"):
             warnings.warn_explicit(

@@ -45,7 +45,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -120,15 +120,12 @@ def compose_parts(
 
 
 def compose_mapping(
-    cls: type[Domain],
-    parts: Mapping[str, Any],
-    *,
-    name: str = "composite",
-    description: str = "",
-    patches: Mapping[str, Mapping[str, Iterable[int | str]]] | None = None,
-    interfaces: Mapping[str, str] | None = None,
+    cls: type[Domain], parts: Mapping[str, Any], patches: Any = None, **options: Any
 ) -> Domain:
-    """The Domain of :meth:`blockmesh.Domain.compose` (see there), as ``cls``."""
+    """The Domain of :meth:`blockmesh.Domain.compose` (see there), as ``cls``.
+
+    ``options`` (``name``, ``description``, ``interfaces``) go to :func:`compose_parts`.
+    """
     if not isinstance(parts, Mapping):
         raise ArgumentTypeError(
             f"compose takes a mapping of region name to part, got {type(parts).__name__}"
@@ -144,7 +141,7 @@ def compose_mapping(
         part_from_value(cls, region, value, k, patches.get(region))
         for k, (region, value) in enumerate(parts.items())
     ]
-    return compose_parts(cls, listed, name=name, description=description, interfaces=interfaces)
+    return compose_parts(cls, listed, **options)
 
 
 def arrange(
