@@ -31,11 +31,11 @@ import shapely
 from _page import Page, add_arguments
 
 import blockmesh
-import blockmesh.domain.compose as compose
 from blockmesh import Domain
+from blockmesh.decompose.fragments import decompose_faces
 from blockmesh.domain.catalogue import catalogue_names, catalogue_path
+from blockmesh.domain.compose import MIN_ANGLE, arrange, extent
 from blockmesh.domain.parts import part_from_table
-from blockmesh.domain.validate import NEAR_TOL
 
 
 def composites() -> list[str]:
@@ -67,23 +67,9 @@ def parts_of(name: str) -> list:
 def stages(parts: list) -> tuple[float, float]:
     """Seconds of the fragmenting (up to the checked arrangement) and of the decomposition."""
     start = time.perf_counter()
-    size = compose._size(parts)
-    tol = NEAR_TOL * size
-    circles = compose._circles(parts, size)
-    splits = compose._crossings(parts, circles, tol)
-    for circle in circles.items:
-        circle.sample()
-    rings = [
-        [[compose._follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
-         for j, polygon in enumerate(part.polygons)]
-        for i, part in enumerate(parts)
-    ]  # fmt: skip
-    shapes = [compose._part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
-    regions = compose._fragments(parts, shapes)
-    pieces = compose._SourcePieces(parts, rings)
-    arrangement = compose._Arrangement.of(parts, regions, pieces, tol)
+    _, _, arrangement = arrange(parts, extent(parts))
     middle = time.perf_counter()
-    compose.decompose_faces(arrangement.points, arrangement.faces, min_angle=compose.MIN_ANGLE)
+    decompose_faces(arrangement.points, arrangement.faces, min_angle=MIN_ANGLE)
     return middle - start, time.perf_counter() - middle
 
 

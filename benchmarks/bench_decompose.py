@@ -26,7 +26,7 @@ from _page import Page, add_arguments
 from blockmesh import Domain
 from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.decompose.triangulate import triangulate
-from blockmesh.domain.validate import check_rings
+from blockmesh.domain.validate.rings import check_rings
 from blockmesh.geometry import interior_angles, local_frame
 
 

@@ -40,7 +40,7 @@ import shapely
 
 from blockmesh.curves.edges import CurvedEdges, curved_slots, edge_points
 from blockmesh.curves.types import SHAPE_TOL, Curve
-from blockmesh.domain.validate import block_label
+from blockmesh.domain.validate.blocks import block_label
 from blockmesh.errors import DomainError, DomainFormatError, fmt_point
 from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,

@@ -35,8 +35,10 @@ import numpy as np
 
 from blockmesh.curves.types import Arc, Curve, as_point
 from blockmesh.decompose.polygon import check_corner_count
-from blockmesh.domain.validate import MAX_COORDINATE, MIN_EXTENT, parse_points
+from blockmesh.domain.validate.points import parse_points
+from blockmesh.domain.validate.tolerances import MIN_EXTENT
 from blockmesh.errors import DomainError, DomainFormatError, fmt_point
+from blockmesh.geometry.polygons import MAX_COORDINATE
 
 if TYPE_CHECKING:
     from blockmesh.domain.domain import Domain

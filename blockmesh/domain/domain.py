@@ -19,58 +19,28 @@ Examples
 from __future__ import annotations
 
 import math
-import numbers
-import warnings
 from collections.abc import Iterable, Mapping
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
-from blockmesh._system.atomic import as_path, atomic_file
-from blockmesh.checks import readonly
 from blockmesh.curves.edges import area_corrections
 from blockmesh.curves.types import Curve
-from blockmesh.decompose import decompose_polygon
-from blockmesh.decompose.conversion import convert_elements, read_element_mesh
-from blockmesh.decompose.polygon import check_corner_count
-from blockmesh.domain.compose import compose_parts
-from blockmesh.domain.curve_checks import (
-    CHECK_LEVELS,
-    check_curved_blocks,
-    curved_edges,
-    resolve_curves,
-)
-from blockmesh.domain.curved_polygons import circle_domain, curved_polygon
-from blockmesh.domain.interfaces import resolve_interfaces
-from blockmesh.domain.parts import part_from_shapely, part_from_table, part_from_value
-from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
+from blockmesh.domain.assemble import blocks_domain, check_fields, from_parsed
+from blockmesh.domain.compose import compose_mapping
+from blockmesh.domain.converted import mesh_domain
+from blockmesh.domain.curve_checks import curved_edges
+from blockmesh.domain.curved_polygons import circle_domain
+from blockmesh.domain.polygons import edge_chains, polygon_domain, shapely_domain
 from blockmesh.domain.sized import DomainGeometry, resized
-from blockmesh.domain.tomlio import dumps_domain, parse_domain_text, read_domain_file
-from blockmesh.domain.validate import (
-    Ring,
-    check_block_shapes,
-    check_rings,
-    check_topology,
-    parse_blocks,
-    parse_points,
-    resolve_patches,
-    resolve_regions,
-)
-from blockmesh.errors import (
-    ArgumentError,
-    ArgumentTypeError,
-    BlockMeshError,
-    DomainError,
-    DomainFormatError,
-    TopologyError,
-)
+from blockmesh.domain.tomlio.reading import domain_from_file, domain_from_text
+from blockmesh.domain.tomlio.writing import dumps_domain, write_domain
+from blockmesh.errors import ArgumentError
 from blockmesh.geometry.polygons import interior_angles, signed_area
-from blockmesh.geometry.topology import boundary_loops, cell_neighbours
 from blockmesh.mesh.mesh import Mesh
-from blockmesh.refinement.grading import check_grading
 from blockmesh.refinement.pipeline import refine
 from blockmesh.sizing.fields import PENTAGON_AREA, SizeField
 from blockmesh.sizing.measure import SizeReport, size_report
@@ -171,82 +141,7 @@ class Domain:
     _neighbour: np.ndarray = field(default_factory=lambda: np.zeros((0, 5), np.int64), repr=False)
 
     def __post_init__(self) -> None:
-        vertices = parse_points(self.vertices, "vertex")
-        blocks = parse_blocks(self.blocks, vertices.shape[0])
-        check_block_shapes(vertices, blocks, repair=False)
-        neighbour = _neighbours(blocks, vertices.shape[0])
-        check_topology(vertices, blocks, neighbour, _components(self.components))
-        boundary = boundary_loops(blocks, neighbour)
-        given = np.asarray(self.boundary_edges, dtype=np.int64).reshape(-1, 2)
-        if not np.array_equal(given, boundary):
-            raise DomainError(
-                "boundary_edges must be the blocks' boundary edges in loop order; build domains "
-                "with Domain.from_blocks() or Domain.from_polygon()"
-            )
-        patch = np.asarray(self.boundary_patch, dtype=np.int64)
-        region = np.asarray(self.region, dtype=np.int64)
-        if patch.shape != (boundary.shape[0],) or not np.all(
-            (patch >= 0) & (patch < len(self.patch_names))
-        ):
-            raise DomainError("every boundary edge needs one patch (an index into patch_names)")
-        if region.shape != (blocks.shape[0],) or not np.all(
-            (region >= 0) & (region < len(self.region_names))
-        ):
-            raise DomainError("every block needs one region (an index into region_names)")
-        object.__setattr__(self, "curves", _checked_curves(vertices, blocks, self.curves))
-        object.__setattr__(self, "grading", check_grading(self.grading, blocks, self.curves))
-        self._store(vertices, blocks, boundary, patch, region, neighbour)
-        self._check_interfaces()
-
-    def _check_interfaces(self) -> None:
-        """Every interface edge an edge of two blocks, indices in range, names of their own."""
-        edges, patch = self.interface_edges, self.interface_patch
-        if patch.shape != (edges.shape[0],) or not np.all(
-            (patch >= 0) & (patch < len(self.interface_names))
-        ):
-            raise DomainError(
-                "every interface edge needs one interface (an index into interface_names)"
-            )
-        names = {name: edges[patch == k].tolist() for k, name in enumerate(self.interface_names)}
-        resolve_interfaces(self.blocks, self.region, names, self.patch_names)
-
-    def _store(self, vertices, blocks, boundary, patch, region, neighbour) -> None:
-        set_ = object.__setattr__
-        set_(self, "vertices", readonly(vertices, np.float64))
-        set_(self, "blocks", readonly(blocks, np.int64))
-        set_(self, "boundary_edges", readonly(boundary, np.int64))
-        set_(self, "boundary_patch", readonly(patch, np.int64))
-        set_(self, "region", readonly(region, np.int64))
-        set_(self, "patch_names", tuple(self.patch_names))
-        set_(self, "region_names", tuple(self.region_names))
-        set_(self, "_neighbour", readonly(neighbour, np.int64))
-        set_(self, "boundary_source", _boundary_source(self.boundary_source, boundary.shape[0]))
-        set_(self, "block_source", _block_source(self.block_source, blocks.shape[0]))
-        set_(self, "curves", MappingProxyType(dict(self.curves)))
-        edges, patch, names = self.interface_edges, self.interface_patch, self.interface_names
-        if edges is MISSING or edges is None:
-            edges, patch, names = np.zeros((0, 2)), np.zeros(0), ()
-        set_(self, "interface_edges", readonly(np.asarray(edges).reshape(-1, 2), np.int64))
-        set_(self, "interface_patch", readonly(np.asarray(patch).reshape(-1), np.int64))
-        set_(self, "interface_names", tuple(names))
-        set_(self, "grading", MappingProxyType(dict(self.grading or {})))
-
-    @classmethod
-    def _trusted(cls, *, neighbour: np.ndarray, **values: Any) -> Domain:
-        """A Domain from data :meth:`from_blocks` has just checked (no second validation)."""
-        domain = object.__new__(cls)
-        for f in fields(cls):
-            if f.name != "_neighbour":
-                object.__setattr__(domain, f.name, values.get(f.name, f.default))
-        domain._store(
-            values["vertices"],
-            values["blocks"],
-            values["boundary_edges"],
-            values["boundary_patch"],
-            values["region"],
-            neighbour,
-        )
-        return domain
+        check_fields(self)
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -338,104 +233,24 @@ class Domain:
         >>> round(curved.area, 6)  # the pentagon's 4.5 and the circular segment below edge 0
         4.90711
         """
-        points = parse_points(vertices, "vertex")
-        block_ids = parse_blocks(blocks, points.shape[0])
-        if merge_tol is not None:
-            given = points
-            points, block_ids, (patches, interfaces) = _merged(
-                points, block_ids, (patches, interfaces), merge_tol
-            )
-            edges = _merged_edges(edges, given, points)
-            grading = _merged_edges(grading, given, points)
-        return cls._from_parsed(
-            points,
-            block_ids,
-            patches,
-            regions,
-            name=name,
-            description=description,
-            layout=layout,
-            boundary_source=boundary_source,
-            block_source=block_source,
-            edges=edges,
-            interfaces=interfaces,
-            components=components,
-            grading=grading,
-        )
+        return blocks_domain(
+            cls, vertices, blocks, patches, regions, name=name, description=description,
+            layout=layout, merge_tol=merge_tol, boundary_source=boundary_source,
+            block_source=block_source, edges=edges, interfaces=interfaces,
+            components=components, grading=grading,
+        )  # fmt: skip
 
     @classmethod
     def _from_parsed(
-        cls,
-        points: np.ndarray,
-        block_ids: np.ndarray,
-        patches: Any,
-        regions: Any,
-        *,
-        made_for: str | None = None,
-        boundary_source: Mapping[tuple[int, int], tuple[int, int]] | None = None,
-        block_source: Any = None,
-        edges: Mapping[tuple[int, int], Curve] | None = None,
-        curve_levels: int = CHECK_LEVELS,
-        grading: Mapping[tuple[int, int], float] | None = None,
-        interfaces: Mapping[str, Iterable] | None = None,
-        components: int = 1,
-        **text: str,
+        cls, points: np.ndarray, block_ids: np.ndarray, patches: Any, regions: Any, **options: Any
     ) -> Domain:
-        """Check parsed blocks and build the Domain.
+        """Check parsed blocks and build the Domain (:mod:`~blockmesh.domain.assemble`).
 
         ``made_for`` names what blockmesh decomposed, so that its own blocks failing the checks
         read as "too thin" rather than as a fault in blocks the user never wrote.
         ``curve_levels`` is how deep curved blocks are refined to be checked.
         """
-        try:
-            block_ids = check_block_shapes(points, block_ids, repair=made_for is None)
-            neighbour = _neighbours(block_ids, points.shape[0])
-            check_topology(points, block_ids, neighbour, _components(components))
-        except (DomainError, TopologyError) as error:
-            if made_for is None:
-                raise
-            lines = [line.strip() for line in str(error).splitlines()]
-            first = lines[1] if len(lines) > 1 and lines[0].endswith("problems:") else lines[0]
-            raise DomainError(
-                f"{made_for} is too thin (or too small for where it sits) to decompose in double "
-                f"precision: the blocks made for it fail their own check ({first}); widen its "
-                "thinnest part or move it nearer the origin"
-            ) from None
-        boundary = boundary_loops(block_ids, neighbour)
-        patch_names, patch = resolve_patches(boundary, patches, block_ids)
-        region_names, region = resolve_regions(block_ids.shape[0], regions)
-        interface_names, interface_edges, interface_patch = resolve_interfaces(
-            block_ids, region, interfaces, patch_names
-        )
-        curves = _checked_curves(points, block_ids, edges, curve_levels)
-        graded = check_grading(grading, block_ids, curves)
-        source = None
-        if boundary_source is not None:
-            source = np.array(
-                [boundary_source.get((int(a), int(b)), (-1, -1)) for a, b in boundary],
-                dtype=np.int64,
-            ).reshape(-1, 2)
-        return cls._trusted(
-            neighbour=neighbour,
-            name=_check_text(text.get("name", "blocks"), "name"),
-            vertices=points,
-            blocks=block_ids,
-            boundary_edges=boundary,
-            boundary_patch=patch,
-            patch_names=patch_names,
-            region=region,
-            region_names=region_names,
-            description=_check_text(text.get("description", ""), "description"),
-            layout=text.get("layout", "blocks"),
-            boundary_source=source,
-            block_source=block_source,
-            curves=curves,
-            interface_edges=interface_edges,
-            interface_patch=interface_patch,
-            interface_names=interface_names,
-            components=components,
-            grading=graded,
-        )
+        return from_parsed(cls, points, block_ids, patches, regions, **options)
 
     @classmethod
     def from_polygon(
@@ -498,51 +313,10 @@ class Domain:
         >>> plate.layout, plate.patch_names, round(plate.area, 12)
         ('triangulation', ('inlet', 'outlet', 'hole', 'boundary'), 7.0)
         """
-        holes = hole_list(holes) if holes is not None else []
-        check_corner_count(sum(len(r) if hasattr(r, "__len__") else 0 for r in (coords, *holes)))
-        if size is not None:
-            unsized = cls.from_polygon(
-                coords, holes, name=name, patches=patches, description=description, arcs=arcs,
-                circles=circles,
-            )  # fmt: skip
-            return unsized.with_size(size)
-        patches = facing_resolved(patches, coords)
-        if arcs or circles:  # decomposed through the chords, then curved: domain.curved_polygons
-            return curved_polygon(
-                cls, coords, holes, arcs=arcs, circles=circles, patches=patches, name=name,
-                description=description,
-            )  # fmt: skip
-
-        given = [parse_points(coords, "polygon vertex")]
-        for k, hole in enumerate(hole_list(holes)):
-            given.append(parse_points(hole, f"hole {k} vertex"))
-        edge_patch = ring_edge_patches(patches, [len(g) for g in given])
-        rings = check_rings(given, edge_patch)
-        decomposition = decompose_polygon([r.points for r in rings])
-        chains = [decomposition.edge_chains, *decomposition.hole_chains]
-        named: dict[str, list[tuple[int, int]]] = {}
-        source: dict[tuple[int, int], tuple[int, int]] = {}
-        for r, (ring, ring_chains) in enumerate(zip(rings, chains, strict=True)):
-            for i, chain in enumerate(ring_chains):
-                for a, b, edge in _steps_on_input_edges(ring, i, chain, decomposition.vertices):
-                    source[(a, b)] = (r, edge)
-                    patch_name = edge_patch[r][edge] if edge_patch is not None else None
-                    if patch_name is not None:
-                        named.setdefault(patch_name, []).append((a, b))
-        # Keep the user's patch order.
-        order = list(patches or {})
-        named = {k: named[k] for k in order if k in named}
-        return cls._from_parsed(
-            np.array(decomposition.vertices),
-            np.array(decomposition.blocks),
-            named,
-            None,
-            made_for="the polygon",
-            name=name,
-            description=description,
-            layout=decomposition.layout,
-            boundary_source=source,
-        )
+        return polygon_domain(
+            cls, coords, holes, name=name, patches=patches, description=description, arcs=arcs,
+            circles=circles, size=size,
+        )  # fmt: skip
 
     @classmethod
     def from_circle(
@@ -596,35 +370,9 @@ class Domain:
         >>> Domain.from_shapely(two).region_names, Domain.from_shapely(two, region="land").area
         (('part0', 'part1'), 2.0)
         """
-        import shapely
-
-        if isinstance(polygon, shapely.MultiPolygon | shapely.GeometryCollection):
-            return _from_pieces(cls, polygon, region, name, patches, description)
-        if not isinstance(polygon, shapely.Polygon):
-            raise ArgumentTypeError(
-                f"from_shapely takes a shapely Polygon or MultiPolygon, got "
-                f"{type(polygon).__name__}"
-            )
-        if region is not None:
-            raise DomainError(
-                "region names the regions of a MultiPolygon's pieces; a Polygon is one region"
-            )
-        if polygon.is_empty:
-            raise DomainError("the shapely polygon is empty")
-        exterior = np.asarray(polygon.exterior.coords)[:-1, :2]
-        holes = [np.asarray(ring.coords)[:-1, :2] for ring in polygon.interiors]
-        # shapely keeps rings either way round: reversing a clockwise one is no news to report.
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            domain = cls.from_polygon(
-                exterior, holes, name=name, patches=patches, description=description
-            )
-        for warning in caught:
-            if not str(warning.message).startswith("the polygon was given clockwise"):
-                warnings.warn_explicit(
-                    warning.message, warning.category, warning.filename, warning.lineno
-                )
-        return domain
+        return shapely_domain(
+            cls, polygon, name=name, patches=patches, description=description, region=region
+        )
 
     @classmethod
     def compose(
@@ -674,22 +422,9 @@ class Domain:
         >>> round(float(steel), 12), d.components
         (2.0, 1)
         """
-        if not isinstance(parts, Mapping):
-            raise ArgumentTypeError(
-                f"compose takes a mapping of region name to part, got {type(parts).__name__}"
-            )
-        patches = patches or {}
-        unknown = sorted(set(patches) - set(parts))
-        if unknown:
-            raise DomainError(
-                f"patches name the region {unknown[0]!r}, but the parts are "
-                f"{', '.join(map(str, parts))}"
-            )
-        listed = [
-            part_from_value(cls, region, value, k, patches.get(region))
-            for k, (region, value) in enumerate(parts.items())
-        ]
-        return compose_parts(cls, listed, name=name, description=description, interfaces=interfaces)
+        return compose_mapping(
+            cls, parts, name=name, description=description, patches=patches, interfaces=interfaces
+        )
 
     @classmethod
     def from_mesh(
@@ -715,28 +450,12 @@ class Domain:
         name : str, optional
             Default: the file's stem (or ``"mesh"``).
         """
-        mesh = read_element_mesh(source)
-        label = str(source) if isinstance(source, str | Path) else "the mesh"
-        default_name = Path(source).stem if isinstance(source, str | Path) else "mesh"
-        try:
-            spec = convert_elements(mesh)
-            return cls.from_blocks(
-                spec.vertices,
-                spec.blocks,
-                spec.patches,
-                spec.regions,
-                name=name or default_name,
-                description=description,
-                layout=spec.layout,
-                block_source=spec.block_source,
-            )
-        except DomainError as error:
-            raise type(error)(f"{label}: {error}") from None
+        return mesh_domain(cls, source, name=name, description=description)
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Domain:
         """Read a domain file (polygon or explicit blocks); see :mod:`blockmesh.domain.tomlio`."""
-        return _from_raw(read_domain_file(path), source=str(path))
+        return domain_from_file(cls, path)
 
     @classmethod
     def from_toml_text(cls, text: str, *, name: str = "domain") -> Domain:
@@ -747,9 +466,7 @@ class Domain:
         >>> Domain.from_toml_text("polygon = [[0, 0], [2, 0], [3, 1], [1, 3], [0, 2]]").area
         6.0
         """
-        raw = parse_domain_text(text, source="<text>")
-        raw.setdefault("name", name)
-        return _from_raw(raw, source="<text>")
+        return domain_from_text(cls, text, name=name)
 
     # ------------------------------------------------------------------ output
     def to_toml(self) -> str:
@@ -758,10 +475,7 @@ class Domain:
 
     def write_toml(self, path: str | Path) -> Path:
         """Write :meth:`to_toml` to ``path`` atomically (temporary file, then rename)."""
-        path = as_path(path)
-        with atomic_file(path) as temporary:
-            temporary.write_text(self.to_toml(), encoding="utf-8")
-        return path
+        return write_domain(self, path)
 
     # ------------------------------------------------------------------ measures
     @property
@@ -849,26 +563,7 @@ class Domain:
         >>> d.polygon_edges[(0, 0)].tolist()  # the bottom edge: corner 0, a node, corner 1
         [0, 4, 1]
         """
-        chains: dict[tuple[int, int], np.ndarray] = {}
-        known = self.boundary_source[:, 0] >= 0
-        if not known.any():
-            return MappingProxyType(chains)
-        keys = self.boundary_source[known, 0] * (self.boundary_edges.shape[0] + 1)
-        keys = keys + self.boundary_source[known, 1]
-        edges = self.boundary_edges[known]
-        order = np.argsort(keys, kind="stable")
-        keys, edges = keys[order], edges[order]
-        starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
-        for lo, hi in zip(starts, np.r_[starts[1:], keys.size], strict=True):
-            run = edges[lo:hi]
-            following = dict(zip(run[:, 0].tolist(), run[:, 1].tolist(), strict=True))
-            first = next(a for a in following if a not in set(run[:, 1].tolist()))
-            chain = [first]
-            while chain[-1] in following:
-                chain.append(following[chain[-1]])
-            ring, edge = (int(x) for x in self.boundary_source[known][order][lo])
-            chains[(ring, edge)] = readonly(np.array(chain, dtype=np.int64), np.int64)
-        return MappingProxyType(chains)
+        return edge_chains(self.boundary_edges, self.boundary_source)
 
     def block_graph(self):
         """The networkx graph of blocks and shared edges; see :mod:`blockmesh.domain.blockgraph`."""
@@ -988,282 +683,3 @@ class Domain:
         )
         mesh = self.block_mesh()
         return size_report(mesh.points, mesh.cells, asked, curves=mesh.curves)
-
-
-# ---------------------------------------------------------------------- helpers
-def _check_text(value: object, what: str) -> str:
-    """``value`` if it is a string without control characters (new lines allowed but in names)."""
-    if not isinstance(value, str):
-        raise DomainFormatError(f"the domain's {what} must be a string, got {value!r}")
-    allowed = "" if what == "name" else "\n\t"
-    for position, char in enumerate(value):
-        if not char.isprintable() and char not in allowed:
-            raise DomainFormatError(
-                f"the domain's {what} has the control character {char!r} at position "
-                f"{position}; use printable text"
-            )
-    return value
-
-
-def _checked_curves(
-    vertices: np.ndarray, blocks: np.ndarray, edges: Mapping | None, levels: int = CHECK_LEVELS
-) -> dict[tuple[int, int], Curve]:
-    """The curves of ``edges`` bound to their vertices, after the blocks are checked with them."""
-    curves = resolve_curves(vertices, blocks, edges)
-    check_curved_blocks(vertices, blocks, curves, levels)
-    return curves
-
-
-def _merged_edges(edges: Any, given: np.ndarray, merged: np.ndarray) -> Any:
-    """``edges`` keyed by the vertex ids after a merge (each vertex finds its merged point)."""
-    if not edges or not isinstance(edges, Mapping):
-        return edges
-    from scipy.spatial import cKDTree
-
-    _, new_id = cKDTree(merged).query(given)
-    out = {}
-    for key, curve in edges.items():
-        try:
-            a, b = (int(new_id[int(v)]) for v in key)
-        except (TypeError, ValueError, IndexError):
-            out[key] = curve  # resolve_curves names the bad key
-            continue
-        out[(a, b)] = curve
-    return out
-
-
-def _neighbours(blocks: np.ndarray, n_vertices: int) -> np.ndarray:
-    try:
-        return cell_neighbours(blocks, n_vertices)
-    except BlockMeshError as error:
-        raise TopologyError(f"{error}: the blocks overlap there") from None
-
-
-def _steps_on_input_edges(
-    ring: Ring, i: int, chain: np.ndarray, vertices: np.ndarray
-) -> list[tuple[int, int, int]]:
-    """The block edges ``(a, b)`` along output edge ``i`` of a ring, each with its input edge.
-
-    Where straight corners were dropped, output edge ``i`` runs along several input edges; a
-    block edge goes to the one its midpoint lies on.
-    """
-    inputs = ring.input_edges(i)
-    steps = list(zip(chain[:-1].tolist(), chain[1:].tolist(), strict=True))
-    if len(inputs) == 1:
-        return [(a, b, inputs[0]) for a, b in steps]
-    # The dropped corners, in order along the edge: where one input edge hands over to the next.
-    dropped = inputs[:-1] if ring.reversed else inputs[1:]
-    start = vertices[chain[0]]
-    direction = vertices[chain[-1]] - start
-    scale = float(direction @ direction)
-    breaks = (ring.given[dropped] - start) @ direction / scale
-    middles = ((vertices[chain[:-1]] + vertices[chain[1:]]) / 2 - start) @ direction / scale
-    which = np.searchsorted(breaks, middles)
-    return [(a, b, inputs[int(k)]) for (a, b), k in zip(steps, which, strict=True)]
-
-
-def _boundary_source(source: Any, n_boundary: int) -> np.ndarray:
-    if source is None or source is MISSING or np.size(source) == 0:
-        return readonly(np.full((n_boundary, 2), -1, dtype=np.int64), np.int64)
-    array = np.asarray(source, dtype=np.int64)
-    if array.shape != (n_boundary, 2):
-        raise DomainError(
-            f"boundary_source must have one (ring, edge) row per boundary edge, shape "
-            f"({n_boundary}, 2), got {array.shape}"
-        )
-    return readonly(array, np.int64)
-
-
-def _components(value: object) -> int:
-    """``value`` as a number of pieces (a whole number >= 1), or DomainFormatError."""
-    if not isinstance(value, numbers.Integral) or isinstance(value, bool) or int(value) < 1:
-        raise DomainFormatError(f"components must be a whole number >= 1, got {value!r}")
-    return int(value)
-
-
-def _whole(value: object) -> bool:
-    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
-
-
-def _source_table(raw: Any) -> dict[tuple[int, int], tuple[int, int]] | None:
-    """The ``boundary_source`` rows of a domain file, ``[a, b, ring, edge]`` each."""
-    if raw is None:
-        return None
-    table = {}
-    for k, row in enumerate(raw):
-        if (
-            not isinstance(row, list)
-            or len(row) != 4
-            or not all(_whole(v) and -1 <= int(v) < 2**62 for v in row)
-        ):
-            raise DomainFormatError(
-                f"boundary_source row {k} is {row!r:.80}: each row is [a, b, ring, edge], whole "
-                "numbers of at least -1"
-            )
-        table[(int(row[0]), int(row[1]))] = (int(row[2]), int(row[3]))
-    return table
-
-
-def _source_list(raw: Any) -> np.ndarray | None:
-    """The ``block_source`` list of a domain file: one whole number per block."""
-    if raw is None:
-        return None
-    bad = [k for k, v in enumerate(raw) if not _whole(v) or not -1 <= int(v) < 2**62]
-    if bad:
-        raise DomainFormatError(
-            f"block_source entry {bad[0]} is {raw[bad[0]]!r}: one element number (or -1) per block"
-        )
-    return np.array(raw, dtype=np.int64)
-
-
-def _block_source(source: Any, n_blocks: int) -> np.ndarray:
-    if source is None or source is MISSING or np.size(source) == 0:
-        return readonly(np.full(n_blocks, -1, dtype=np.int64), np.int64)
-    array = np.asarray(source, dtype=np.int64)
-    if array.shape != (n_blocks,):
-        raise DomainError(
-            f"block_source must have one entry per block, shape ({n_blocks},), got {array.shape}"
-        )
-    return readonly(array, np.int64)
-
-
-def _merged(
-    points: np.ndarray, blocks: np.ndarray, named: tuple[Any, ...], tol: float
-) -> tuple[np.ndarray, np.ndarray, tuple[Any, ...]]:
-    """Merge vertices closer than ``tol``; renumber; map blocks and ``named``'s vertex pairs.
-
-    ``named`` holds mappings of name to vertex pairs (the patches, the interfaces).
-    """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
-
-    if not isinstance(tol, numbers.Real) or isinstance(tol, bool) or not tol >= 0:
-        raise DomainFormatError(f"merge_tol must be a distance >= 0, got {tol!r}")
-    n = points.shape[0]
-    pairs = cKDTree(points).query_pairs(r=float(tol), output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
-    representative = np.full(label.max() + 1, n, dtype=np.int64)
-    np.minimum.at(representative, label, np.arange(n))
-    target = representative[label]
-    kept = np.unique(target)
-    new_id = np.full(n, -1, dtype=np.int64)
-    new_id[kept] = np.arange(kept.size)
-    mapping = new_id[target]
-    return points[kept], mapping[blocks], tuple(_mapped_pairs(p, mapping, n) for p in named)
-
-
-def _mapped_pairs(patches: Any, mapping: np.ndarray, n: int) -> Any:
-    """A mapping of name to vertex pairs with every pair's ids mapped (others left as given)."""
-    mapped_patches = patches
-    if patches:
-        mapped_patches = {}
-        for patch_name, edges in dict(patches).items():
-            mapped = []
-            for edge in edges if isinstance(edges, Iterable) else [edges]:
-                pair = (
-                    list(edge) if isinstance(edge, Iterable) and not isinstance(edge, str) else None
-                )
-                if (
-                    pair is not None
-                    and len(pair) == 2
-                    and all(isinstance(v, numbers.Integral) and 0 <= int(v) < n for v in pair)
-                ):
-                    mapped.append((int(mapping[pair[0]]), int(mapping[pair[1]])))
-                else:
-                    mapped.append(edge)
-            mapped_patches[patch_name] = mapped
-    return mapped_patches
-
-
-def _from_pieces(
-    cls: type[Domain],
-    multi: Any,
-    region: str | Iterable[str] | None,
-    name: str,
-    patches: Mapping[str, Iterable[int | str]] | None,
-    description: str,
-) -> Domain:
-    """The composite domain of a MultiPolygon's pieces (see :meth:`Domain.from_shapely`)."""
-    pieces = list(multi.geoms)
-    if patches:
-        raise DomainError(
-            "patches of a MultiPolygon's pieces: use Domain.compose with one part per piece "
-            "(patches={region: {patch: [edges]}})"
-        )
-    if isinstance(region, str):
-        parts = [part_from_shapely(region, multi, f"part 0 ({region!r})")]
-    else:
-        names = [f"part{k}" for k in range(len(pieces))] if region is None else list(region)
-        if len(names) != len(pieces):
-            raise DomainError(
-                f"region gives {len(names)} names for the {len(pieces)} pieces of the "
-                "MultiPolygon; give one name per piece (or one name for all)"
-            )
-        parts = [
-            part_from_value(cls, label, piece, k)
-            for k, (label, piece) in enumerate(zip(names, pieces, strict=True))
-        ]
-    return compose_parts(cls, parts, name=name, description=description)
-
-
-def _from_raw(raw: dict[str, Any], *, source: str) -> Domain:
-    size = raw.pop("size", None)
-    domain = _geometry_from_raw(raw, source=source)
-    if size is None:
-        return domain
-    try:
-        return domain.with_size(as_size_spec(size, source=f"{source} [size]"))
-    except DomainError as error:
-        raise type(error)(f"{source}: {error}") from None
-
-
-def _geometry_from_raw(raw: dict[str, Any], *, source: str) -> Domain:
-    name = raw.get("name", "domain")
-    description = raw.get("description", "")
-    try:
-        if "parts" in raw:
-            parts = [part_from_table(table, k) for k, table in enumerate(raw["parts"])]
-            return compose_parts(
-                Domain,
-                parts,
-                name=name,
-                description=description,
-                interfaces=raw.get("interfaces"),
-            )
-        if "circle" in raw:
-            circle = raw["circle"]
-            return Domain.from_circle(
-                circle["center"],
-                circle["radius"],
-                name=name,
-                patch=circle.get("patch", "boundary"),
-                description=description,
-            )
-        if "polygon" in raw:
-            return Domain.from_polygon(
-                raw["polygon"],
-                raw.get("holes"),
-                name=name,
-                patches=raw.get("patches"),
-                description=description,
-                arcs=raw.get("arcs"),
-                circles=raw.get("circles"),
-            )
-        return Domain.from_blocks(
-            raw["vertices"],
-            raw["blocks"],
-            raw.get("patches"),
-            raw.get("regions"),
-            name=name,
-            description=description,
-            boundary_source=_source_table(raw.get("boundary_source")),
-            block_source=_source_list(raw.get("block_source")),
-            edges=raw.get("edges"),
-            interfaces=raw.get("interfaces"),
-            components=raw.get("components", 1),
-            grading=raw.get("grading"),
-        )
-    except DomainError as error:
-        raise type(error)(f"{source}: {error}") from None

@@ -24,7 +24,8 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from blockmesh.domain.validate import _mapping, _raise, edge_pair
+from blockmesh.domain.validate.names import as_mapping, edge_pair
+from blockmesh.domain.validate.problems import raise_problems
 from blockmesh.errors import DomainError, DomainFormatError
 
 __all__ = [
@@ -91,7 +92,7 @@ def resolve_interfaces(
     patch : ndarray (Ei,) int64
         Index into ``names`` of each edge.
     """
-    given = _mapping(raw, "interfaces", "interface names to lists of edges [a, b]")
+    given = as_mapping(raw, "interfaces", "interface names to lists of edges [a, b]")
     n = int(blocks.max(initial=-1)) + 1
     ahead = np.roll(blocks, -1, axis=1)
     keys = (blocks * n + ahead).ravel()
@@ -139,9 +140,9 @@ def resolve_interfaces(
             first = (int(region[forward]), forward) <= (int(region[backward]), backward)
             rows.append((a, b) if first else (b, a))
             patch.append(len(names) - 1)
-    _raise(DomainError, problems)
+    raise_problems(DomainError, problems)
     empty = [name for k, name in enumerate(names) if k not in set(patch)]
-    _raise(
+    raise_problems(
         DomainError, [f"interface {e!r} has no edges; give it edges or remove it" for e in empty]
     )
     return (

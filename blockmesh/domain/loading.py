@@ -50,7 +50,7 @@ from blockmesh.domain.catalogue import catalogue_names, catalogue_path
 from blockmesh.domain.compose import compose_parts
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.parts import part_from_shapely
-from blockmesh.domain.tomlio import read_text_bounded
+from blockmesh.domain.tomlio.bounds import read_text_bounded
 from blockmesh.errors import DomainError, DomainFormatError
 
 __all__ = ["MESH_SUFFIXES", "convert_mesh", "load_domain", "parse_polygon_string"]

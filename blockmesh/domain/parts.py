@@ -33,8 +33,9 @@ import shapely
 from blockmesh.curves.types import Arc
 from blockmesh.domain.curved_polygons import _circle_fields, _edge_key
 from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
-from blockmesh.domain.tomlio import _polygon_arcs, _toml_type
-from blockmesh.domain.validate import DEFAULT_PATCH, _check_name, parse_points
+from blockmesh.domain.tomlio.tables import polygon_arcs, toml_type
+from blockmesh.domain.validate.names import DEFAULT_PATCH, check_name
+from blockmesh.domain.validate.points import parse_points
 from blockmesh.errors import ArgumentTypeError, DomainError, DomainFormatError
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
 
@@ -149,7 +150,7 @@ def part_from_table(table: object, k: int, source: str = "") -> Part:
     if not isinstance(table, Mapping):
         raise DomainFormatError(
             f"{where}parts entry {k} must be a table (region = ..., polygon = ... or circles = "
-            f"...), got {_toml_type(table)}"
+            f"...), got {toml_type(table)}"
         )
     unknown = sorted(set(table) - set(PART_KEYS))
     if unknown:
@@ -170,7 +171,7 @@ def part_from_table(table: object, k: int, source: str = "") -> Part:
 
 def _region_name(value: object, where: str) -> str:
     try:
-        return _check_name(value, "region")
+        return check_name(value, "region")
     except DomainFormatError as error:
         raise DomainFormatError(f"{where}: {error}") from None
 
@@ -201,11 +202,11 @@ def _part_from_fields(table: Mapping[str, Any], region: str, label: str) -> Part
     arcs: dict[tuple[int, int], Any] = {}
     raw_arcs = table.get("arcs")
     if raw_arcs is not None:
-        specs = _polygon_arcs(raw_arcs, "arcs") if isinstance(raw_arcs, list) else raw_arcs
+        specs = polygon_arcs(raw_arcs, "arcs") if isinstance(raw_arcs, list) else raw_arcs
         if not isinstance(specs, Mapping):
             raise DomainFormatError(
                 f"arcs must be a list of tables (edge = ..., through|center = ...), got "
-                f"{_toml_type(raw_arcs)}"
+                f"{toml_type(raw_arcs)}"
             )
         for spec, arc in specs.items():
             edge_key = _edge_key(spec, sizes[: len(rings)])

@@ -22,7 +22,7 @@ import re
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-from blockmesh.domain.validate import parse_points
+from blockmesh.domain.validate.points import parse_points
 from blockmesh.errors import DomainError, DomainFormatError
 from blockmesh.geometry.polygons import DIRECTIONS, edges_facing
 

@@ -9,7 +9,7 @@ from helpers import examples, polygon_with_holes
 from hypothesis import HealthCheck, given, settings
 
 from blockmesh.decompose.triangulate import triangulate
-from blockmesh.domain.validate import check_rings
+from blockmesh.domain.validate.rings import check_rings
 from blockmesh.errors import ResourceError
 from blockmesh.geometry import interior_angles, local_frame, signed_area
 

@@ -80,7 +80,7 @@ def test_a_fifo_is_refused_without_waiting_for_a_writer(tmp_path):
     outcome = _finishes(lambda: blockmesh.load_domain(fifo))
     error = outcome.get("error")
     assert isinstance(error, DomainFormatError)
-    assert "not a regular file (a FIFO)" in str(error)
+    assert "not a regular file (a FIFO (named pipe))" in str(error)
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="no /dev on Windows")
@@ -101,7 +101,7 @@ def test_directories_and_oversized_and_binary_files(tmp_path, monkeypatch):
         Domain.from_toml(folder)
     big = tmp_path / "big.toml"
     big.write_text("polygon = [[0, 0], [1, 0], [0, 1]]\n" + "# padding\n" * 100)
-    monkeypatch.setattr(tomlio, "MAX_FILE_BYTES", 256)
+    monkeypatch.setattr(tomlio.bounds, "MAX_FILE_BYTES", 256)
     with pytest.raises(DomainFormatError, match="larger than 0 MiB, the most a domain file may be"):
         Domain.from_toml(big)
     monkeypatch.undo()

@@ -8,7 +8,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-import blockmesh.domain.validate as validate
+import blockmesh.domain.validate.points as validate_points
 import blockmesh.geometry.topology as topology
 
 
@@ -36,7 +36,7 @@ def test_graph_components_long_path():
 def test_close_pairs_equal_kdtree(seed):
     rng = np.random.default_rng(seed)
     points = rng.integers(0, 30, (int(rng.integers(2, 700)), 2)) * 0.1
-    pairs = validate.close_pairs(points, 0.15)
+    pairs = validate_points.close_pairs(points, 0.15)
     expected = cKDTree(points).query_pairs(r=0.15, output_type="ndarray")
     assert sorted(map(tuple, pairs.tolist())) == sorted(map(tuple, np.sort(expected, 1).tolist()))
 
@@ -45,20 +45,20 @@ def test_close_pairs_equal_kdtree(seed):
 def test_swept_close_pairs_equal_kdtree(seed):
     # Above the brute-force size: the sweep along x (points on a grid share x coordinates).
     rng = np.random.default_rng(seed)
-    n = validate._BRUTE_FORCE_POINTS + int(rng.integers(1, 2000))
+    n = validate_points._BRUTE_FORCE_POINTS + int(rng.integers(1, 2000))
     points = rng.integers(0, 300, (n, 2)) * 0.01 + rng.normal(0, 1e-4, (n, 2))
     r = float(rng.uniform(1e-4, 3e-3))
-    swept = validate._swept_pairs(points, r)
+    swept = validate_points._swept_pairs(points, r)
     expected = cKDTree(points).query_pairs(r=r, output_type="ndarray")
     assert swept is not None
     assert sorted(map(tuple, swept.tolist())) == sorted(map(tuple, np.sort(expected, 1).tolist()))
-    same = validate.close_pairs(points, r)
+    same = validate_points.close_pairs(points, r)
     assert sorted(map(tuple, np.sort(same, 1).tolist())) == sorted(map(tuple, swept.tolist()))
 
 
 def test_close_pairs_crowded_in_x_falls_back_to_the_tree():
     # Every point within r in x of every other: the sweep would compare n^2 / 2 pairs.
-    n = validate._BRUTE_FORCE_POINTS + 10
+    n = validate_points._BRUTE_FORCE_POINTS + 10
     points = np.column_stack([np.zeros(n), np.arange(n, dtype=float)])
-    assert validate._swept_pairs(points, 0.5) is None
-    assert validate.close_pairs(points, 1.0).shape == (n - 1, 2)
+    assert validate_points._swept_pairs(points, 0.5) is None
+    assert validate_points.close_pairs(points, 1.0).shape == (n - 1, 2)

@@ -1,0 +1,203 @@
+"""The Domain on the decomposed faces: arcs on the circles, regions, patches, interfaces.
+
+Block vertices on a chord of a circle move onto the circle, and every block edge along it becomes
+an arc around the circle's centre (stored once per edge, so both regions share its nodes bit for
+bit); the blocks get their regions, the boundary edges the parts' patches, and the edges between
+regions their interfaces (``"A|B"``, or the names :func:`interface_renames` checked).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from blockmesh.curves.types import Arc, Curve
+from blockmesh.domain.compose.arrangement import Arrangement
+from blockmesh.domain.compose.circles import Circles
+from blockmesh.domain.compose.fragments import SourcePieces
+from blockmesh.domain.interfaces import check_interface_name, default_interface_name
+from blockmesh.domain.parts import Part
+from blockmesh.domain.validate.tolerances import NEAR_TOL
+from blockmesh.errors import DomainError, DomainFormatError
+from blockmesh.geometry.topology import graph_components
+
+if TYPE_CHECKING:
+    from blockmesh.domain.domain import Domain
+
+__all__ = ["BlocksFailError", "build_domain", "interface_renames"]
+
+
+class BlocksFailError(Exception):
+    """The blocks made for the faces fail the Domain's checks (``error`` says how)."""
+
+    def __init__(self, error: DomainError) -> None:
+        super().__init__(str(error))
+        self.error = error
+
+
+def interface_renames(
+    interfaces: Mapping[str, str] | None, parts: list[Part]
+) -> dict[tuple[str, str], str]:
+    """User names of interfaces by region pair (either order), checked."""
+    if not interfaces:
+        return {}
+    if not isinstance(interfaces, Mapping):
+        raise DomainFormatError(
+            'interfaces must map "A|B" (two regions) to a name, e.g. {"matrix|fibre": "bond"}, '
+            f"got {type(interfaces).__name__}"
+        )
+    regions = {p.region for p in parts}
+    out: dict[tuple[str, str], str] = {}
+    for pair, new in interfaces.items():
+        if not isinstance(pair, str) or pair.count("|") != 1:
+            raise DomainFormatError(
+                f'interface {pair!r}: name an interface by its two regions, "A|B"'
+            )
+        a, b = (s.strip() for s in pair.split("|"))
+        for region in (a, b):
+            if region not in regions:
+                raise DomainError(
+                    f"interface {pair!r} names the region {region!r}, but the regions are "
+                    f"{', '.join(p.region for p in parts)}"
+                )
+        check_interface_name(new, ())
+        out[(a, b)] = out[(b, a)] = new
+    return out
+
+
+def build_domain(
+    cls: type[Domain],
+    parts: list[Part],
+    arrangement: Arrangement,
+    result: Any,
+    circles: Circles,
+    pieces: SourcePieces,
+    renames: dict[tuple[str, str], str],
+    name: str,
+    description: str,
+) -> Domain:
+    """Regions, patches, interfaces and arcs on the decomposed faces: the Domain."""
+    vertices = np.array(result.vertices)
+    chains: dict[tuple[int, int], np.ndarray] = {}  # arrangement edge (a < b) -> chain a..b
+    for face, face_chains in zip(arrangement.faces, result.ring_chains, strict=True):
+        for ring, ring_chains in zip(face, face_chains, strict=True):
+            for a, b, chain in zip(
+                ring.tolist(), np.roll(ring, -1).tolist(), ring_chains, strict=True
+            ):
+                chains.setdefault((min(a, b), max(a, b)), chain if a < b else chain[::-1])
+    edges: dict[tuple[int, int], Curve] = {}
+    sample_of: dict[tuple[float, float], list[tuple[int, int]]] = {}
+    for k, circle in enumerate(circles.items):
+        for key, j in circle.index.items():
+            sample_of.setdefault(key, []).append((k, j))
+    points = arrangement.points
+    for (a, b), chain in chains.items():
+        arc = _chord_of(points[a], points[b], sample_of, circles)
+        if arc is None:
+            continue
+        k, start, turn = arc
+        circle = circles.items[k]
+        p, q = points[a], points[b]
+        d = q - p
+        inner = chain[1:-1]
+        fraction = (vertices[inner] - p) @ d / float(d @ d)
+        angles = start + fraction * turn
+        vertices[inner] = circle.centre + circle.radius * np.c_[np.cos(angles), np.sin(angles)]
+        centre = (float(circle.centre[0]), float(circle.centre[1]))
+        for u, v in zip(chain[:-1].tolist(), chain[1:].tolist(), strict=True):
+            edges[(u, v)] = Arc(center=centre)
+    region_names = [p.region for p in parts]
+    regions: dict[str, list[int]] = {n: [] for n in region_names}
+    face_of_block = result.block_face
+    block_region = arrangement.face_region[face_of_block]
+    for b, r in enumerate(block_region.tolist()):
+        regions[region_names[r]].append(b)
+    patches: dict[str, list[tuple[int, int]]] = {}
+    interfaces: dict[str, list[tuple[int, int]]] = {}
+    boundary_keys = [e for e, f in arrangement.edge_faces.items() if len(f) == 1]
+    middles = np.array([(points[a] + points[b]) / 2 for a, b in boundary_keys]).reshape(-1, 2)
+    tol = NEAR_TOL * float(np.hypot(*np.ptp(points, axis=0)))
+    named = pieces.patches_at(middles, tol) if boundary_keys else []
+    for (a, b), patch in zip(boundary_keys, named, strict=True):
+        if patch is not None:
+            chain = chains[(a, b)]
+            patches.setdefault(patch, []).extend(
+                zip(chain[:-1].tolist(), chain[1:].tolist(), strict=True)
+            )
+    pairs = []
+    for (a, b), faces in arrangement.edge_faces.items():
+        if len(faces) != 2:
+            continue
+        r1, r2 = sorted(int(arrangement.face_region[f]) for f in faces)
+        if r1 == r2:
+            continue
+        pairs.append((r1, r2, a, b))
+    for r1, r2, a, b in sorted(pairs):
+        first, second = region_names[r1], region_names[r2]
+        label = renames.get((first, second), default_interface_name(first, second))
+        chain = chains[(a, b)]
+        interfaces.setdefault(label, []).extend(
+            zip(chain[:-1].tolist(), chain[1:].tolist(), strict=True)
+        )
+    for label in interfaces:
+        if label in patches:
+            raise DomainError(
+                f"interface {label!r} has the name of a boundary patch; an interface is an "
+                "internal patch (between two regions), so give one of them another name"
+            )
+    joined = np.array(
+        [faces for faces in arrangement.edge_faces.values() if len(faces) == 2], dtype=np.int64
+    ).reshape(-1, 2)
+    components, _ = graph_components(len(arrangement.faces), joined[:, 0], joined[:, 1])
+    try:
+        return cls._from_parsed(
+            vertices,
+            np.array(result.blocks),
+            patches,
+            regions,
+            made_for="the composite domain",
+            name=name,
+            description=description,
+            layout="composite",
+            edges=edges,
+            interfaces=interfaces,
+            components=components,
+        )
+    except DomainError as error:
+        raise BlocksFailError(error) from None
+
+
+def _chord_of(
+    p: np.ndarray,
+    q: np.ndarray,
+    sample_of: Mapping[tuple[float, float], list[tuple[int, int]]],
+    circles: Circles,
+) -> tuple[int, float, float] | None:
+    """``(circle, start angle, turn)`` of a chord between neighbouring points of a circle.
+
+    None when ``p``-``q`` is a straight edge (not two neighbouring points a circle is followed at).
+    """
+    at_p = sample_of.get((float(p[0]), float(p[1])), [])
+    at_q = dict(sample_of.get((float(q[0]), float(q[1])), []))
+    for k, i in at_p:
+        j = at_q.get(k)
+        if j is None:
+            continue
+        circle = circles.items[k]
+        n = len(circle.xy)
+        if (j - i) % n == 1:
+            return (
+                k,
+                float(circle.angle[i]),
+                float((circle.angle[j] - circle.angle[i]) % (2 * math.pi)),
+            )
+        if (i - j) % n == 1:
+            return (
+                k,
+                float(circle.angle[i]),
+                -float((circle.angle[i] - circle.angle[j]) % (2 * math.pi)),
+            )
+    return None

@@ -1,0 +1,276 @@
+"""The circles of a composite domain, each followed at points every part on it shares.
+
+Every circle (circular holes, discs, arcs, a Domain's arcs) is found once (:class:`Circles`),
+with the points fixed on it: the ends of arcs, corners on it, and the points where straight edges
+and other circles cross it (:func:`crossings`, computed once so that both share them bit for
+bit). :func:`follow` turns a part's outline into the closed list of points every part on its
+circles shares.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from blockmesh.domain.parts import Outline, Part
+
+__all__ = [
+    "CIRCLE_PIECES",
+    "Circle",
+    "Circles",
+    "FollowedRing",
+    "circles_of",
+    "crossings",
+    "follow",
+]
+
+#: Chords a whole circle is followed with by default (two per 45 degrees; a part's circle may
+#: ask for more with ``sides``); between the points fixed on a circle no chord turns more.
+CIRCLE_PIECES = 16
+#: Relative distance under which two circles are the same circle (centres and radii).
+_SAME_CIRCLE = 1e-9
+
+
+@dataclass
+class Circle:
+    """One circle of the domain, the points fixed on it, and the points it is followed at."""
+
+    centre: np.ndarray
+    radius: float
+    exact: bool = False  # the centre and radius as a user gave them (not computed)
+    pieces: int = 0  # chords for a whole circle with no fixed points (0: no whole circle)
+    spans: list[tuple[tuple[float, float], float]] = field(default_factory=list)  # (start, sweep)
+    anchors: set[tuple[float, float]] = field(default_factory=set)  # points fixed on it
+    xy: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    angle: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    index: dict[tuple[float, float], int] = field(default_factory=dict)
+
+    def angle_of(self, point: Any) -> float:
+        """The angle of ``point`` seen from the centre (radians, -pi to pi)."""
+        return math.atan2(point[1] - self.centre[1], point[0] - self.centre[0])
+
+    def anchor(self, point: np.ndarray) -> None:
+        """Fix ``point`` on the circle: it is followed there."""
+        self.anchors.add((float(point[0]), float(point[1])))
+
+    def covers(self, angle: float) -> bool:
+        """Whether a point of the circle at ``angle`` lies on a whole circle or an arc of it."""
+        if self.pieces:
+            return True
+        for start, sweep in self.spans:
+            turn = (angle - self.angle_of(start)) * math.copysign(1.0, sweep) % (2 * math.pi)
+            if turn <= abs(sweep):
+                return True
+        return False
+
+    def sample(self, finer: int = 1) -> None:
+        """The points the circle is followed at: its fixed points, and more between them.
+
+        ``finer`` multiplies the number of chords (see :data:`FINER`).
+        """
+        wanted = max(self.pieces, CIRCLE_PIECES) * finer
+        limit = 2 * math.pi / wanted
+        if not self.anchors:
+            even = 2 * math.pi * np.arange(wanted) / wanted
+            self.angle = even
+            self.xy = self.centre + self.radius * np.c_[np.cos(even), np.sin(even)]
+        else:
+            keys = sorted(self.anchors, key=self.angle_of)
+            first = [self.angle_of(k) for k in keys]
+            angles: list[float] = []
+            points: list[np.ndarray] = []
+            for j, key in enumerate(keys):
+                start = first[j]
+                gap = (first[(j + 1) % len(keys)] - start) % (2 * math.pi)
+                if gap == 0.0:
+                    gap = 2 * math.pi
+                count = max(1, math.ceil(gap / limit - 1e-9))
+                inner = start + gap * np.arange(1, count) / count
+                angles += [start, *inner.tolist()]
+                points += [np.array(key)[None], self.centre + self.radius * np.c_[
+                    np.cos(inner), np.sin(inner)]]  # fmt: skip
+            self.angle = np.array(angles)
+            self.xy = np.vstack(points)
+        self.index = {(float(x), float(y)): k for k, (x, y) in enumerate(self.xy.tolist())}
+
+    def between(self, p: np.ndarray, q: np.ndarray, sweep: float) -> np.ndarray:
+        """The points followed strictly between fixed points ``p`` and ``q``, going ``sweep``."""
+        n = len(self.xy)
+        i = self.index[(float(p[0]), float(p[1]))]
+        j = self.index[(float(q[0]), float(q[1]))]
+        step = 1 if sweep > 0 else -1
+        count = ((j - i) * step) % n
+        return self.xy[[(i + step * m) % n for m in range(1, count)]]
+
+
+class Circles:
+    """The circles of all parts, each once (circles within a hair of each other are one)."""
+
+    def __init__(self, size: float) -> None:
+        self.items: list[Circle] = []
+        self.tol = _SAME_CIRCLE * size
+
+    def find(self, centre: Sequence[float], radius: float, exact: bool = False) -> int:
+        """The circle's index; a circle given exactly replaces one computed (within a hair)."""
+        c = np.asarray(centre, dtype=np.float64)
+        for k, circle in enumerate(self.items):
+            if (
+                float(np.hypot(*(circle.centre - c))) <= self.tol
+                and abs(circle.radius - radius) <= self.tol
+            ):
+                if exact and not circle.exact:
+                    circle.centre, circle.radius, circle.exact = c, float(radius), True
+                return k
+        self.items.append(Circle(c, float(radius), exact))
+        return len(self.items) - 1
+
+
+@dataclass
+class FollowedRing:
+    """An outline followed as a closed list of points, with the part and patch of each piece."""
+
+    xy: np.ndarray
+    patch: list[str | None]
+
+
+def circles_of(parts: list[Part], size: float) -> Circles:
+    """Every circle once, with the arcs' ends fixed on it."""
+    circles = Circles(size)
+    for part in parts:
+        for polygon in part.polygons:
+            for outline in polygon:
+                if outline.circle is not None:
+                    centre, radius, sides = outline.circle
+                    circle = circles.items[circles.find(centre, radius, outline.circle_exact)]
+                    circle.pieces = max(circle.pieces, 2 * sides)
+                    continue
+                n = len(outline.corners)
+                for e, arc in enumerate(outline.arcs):
+                    if arc is None:
+                        continue
+                    circle = circles.items[circles.find(arc.centre, arc.radius, arc.exact)]
+                    p, q = outline.corners[e], outline.corners[(e + 1) % n]
+                    circle.anchor(p)
+                    circle.anchor(q)
+                    circle.spans.append(((float(p[0]), float(p[1])), arc.sweep))
+    return circles
+
+
+def _straight_edges(
+    parts: list[Part],
+) -> tuple[np.ndarray, np.ndarray, list[tuple[int, int, int, int]]]:
+    """Every straight edge of every outline: starts, ends, and (part, polygon, ring, edge)."""
+    starts, ends, keys = [], [], []
+    for i, part in enumerate(parts):
+        for j, polygon in enumerate(part.polygons):
+            for r, outline in enumerate(polygon):
+                n = len(outline.corners)
+                for e in range(n):
+                    if outline.arcs[e] is None:
+                        starts.append(outline.corners[e])
+                        ends.append(outline.corners[(e + 1) % n])
+                        keys.append((i, j, r, e))
+    if not keys:
+        return np.zeros((0, 2)), np.zeros((0, 2)), keys
+    return np.array(starts), np.array(ends), keys
+
+
+def crossings(
+    parts: list[Part], circles: Circles, tol: float
+) -> dict[tuple[int, int, int, int], list[tuple[float, np.ndarray]]]:
+    """Where straight edges and circles cross: points fixed on both, computed once.
+
+    Returns, per straight edge (part, polygon, ring, edge), the points inside it where a circle
+    crosses or touches it, with their fraction along the edge; the same points are fixed on the
+    circles (so the two share them bit for bit). Corners lying on a circle are fixed on it.
+    """
+    starts, ends, keys = _straight_edges(parts)
+    splits: dict[tuple[int, int, int, int], list[tuple[float, np.ndarray]]] = {}
+    corners = [
+        outline.corners
+        for part in parts
+        for polygon in part.polygons
+        for outline in polygon
+        if len(outline.corners)
+    ]
+    all_corners = np.vstack(corners) if corners else np.zeros((0, 2))
+    for circle in circles.items:
+        c, radius = circle.centre, circle.radius
+        if all_corners.size:
+            on = np.abs(np.hypot(*(all_corners - c).T) - radius) <= tol
+            for point in all_corners[on]:
+                if circle.covers(circle.angle_of(point)):
+                    circle.anchor(point)
+        if not keys:
+            continue
+        d = ends - starts
+        f = starts - c
+        a = np.sum(d * d, axis=1)
+        b = 2 * np.sum(f * d, axis=1)
+        cc = np.sum(f * f, axis=1) - radius * radius
+        disc = b * b - 4 * a * cc
+        for k in np.flatnonzero(disc >= 0).tolist():
+            root = math.sqrt(disc[k])
+            length = math.sqrt(a[k])
+            for t in sorted({(-b[k] - root) / (2 * a[k]), (-b[k] + root) / (2 * a[k])}):
+                if not tol < t * length < length - tol:
+                    continue
+                point = starts[k] + t * d[k]
+                if not circle.covers(circle.angle_of(point)):
+                    continue
+                circle.anchor(point)
+                splits.setdefault(keys[k], []).append((t, point))
+    for m, one in enumerate(circles.items):
+        for two in circles.items[m + 1 :]:
+            for point in _circle_crossings(one, two):
+                if one.covers(one.angle_of(point)) and two.covers(two.angle_of(point)):
+                    one.anchor(point)
+                    two.anchor(point)
+    return splits
+
+
+def _circle_crossings(one: Circle, two: Circle) -> list[np.ndarray]:
+    d = float(np.hypot(*(two.centre - one.centre)))
+    if d == 0.0 or d > one.radius + two.radius or d < abs(one.radius - two.radius):
+        return []
+    a = (one.radius**2 - two.radius**2 + d * d) / (2 * d)
+    h = math.sqrt(max(one.radius**2 - a * a, 0.0))
+    unit = (two.centre - one.centre) / d
+    base = one.centre + a * unit
+    normal = np.array([-unit[1], unit[0]])
+    if h == 0.0:
+        return [base]
+    return [base + h * normal, base - h * normal]
+
+
+def follow(
+    outline: Outline,
+    circles: Circles,
+    splits: Mapping[tuple[int, int, int, int], list[tuple[float, np.ndarray]]],
+    key: tuple[int, int, int] | None = None,
+) -> FollowedRing:
+    """An outline as the closed list of points every part on its circles shares."""
+    if outline.circle is not None:
+        centre, radius, _ = outline.circle
+        circle = circles.items[circles.find(centre, radius)]
+        return FollowedRing(circle.xy.copy(), [outline.patches[0]] * len(circle.xy))
+    points: list[np.ndarray] = []
+    patch: list[str | None] = []
+    n = len(outline.corners)
+    for e in range(n):
+        p, q = outline.corners[e], outline.corners[(e + 1) % n]
+        arc = outline.arcs[e]
+        if arc is None:
+            inner = sorted(splits.get((*key, e), []), key=lambda s: s[0]) if key else []
+            run = [p[None], *(point[None] for _, point in inner)]
+        else:
+            circle = circles.items[circles.find(arc.centre, arc.radius)]
+            run = [p[None], circle.between(p, q, arc.sweep)]
+        block = np.vstack(run)
+        points.append(block)
+        patch += [outline.patches[e]] * len(block)
+    return FollowedRing(np.vstack(points), patch)
