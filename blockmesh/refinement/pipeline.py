@@ -25,7 +25,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Protocol, overload
+from typing import Any, Protocol, TypedDict, Unpack, overload
 
 import numpy as np
 
@@ -83,19 +83,25 @@ def _block_mesh_of(target: BlockSource | Mesh | PolygonMesh) -> Mesh:
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
+class RefineOptions(TypedDict, total=False):
+    """The keywords of :func:`refine` that do not change what it returns (see there)."""
+
+    scheme: str
+    numbering: str
+    smooth: int
+    placement: str | Placement
+    max_memory: int | None
+    progress: ProgressCallback | None
+    threads: int | None
+
+
 @overload
 def refine(
     domain_or_mesh: BlockSource | Mesh,
     level: int,
     *,
     cells: None = None,
-    scheme: str = "pentagons",
-    numbering: str = "nested",
-    smooth: int = 0,
-    placement: str | Placement = "paper",
-    max_memory: int | None = None,
-    progress: ProgressCallback | None = None,
-    threads: int | None = None,
+    **options: Unpack[RefineOptions],
 ) -> Mesh: ...
 
 
@@ -105,13 +111,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any,
-    scheme: str = "pentagons",
-    numbering: str = "nested",
-    smooth: int = 0,
-    placement: str | Placement = "paper",
-    max_memory: int | None = None,
-    progress: ProgressCallback | None = None,
-    threads: int | None = None,
+    **options: Unpack[RefineOptions],
 ) -> PolygonMesh: ...
 
 
@@ -121,13 +121,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any = None,
-    scheme: str = "pentagons",
-    numbering: str = "nested",
-    smooth: int = 0,
-    placement: str | Placement = "paper",
-    max_memory: int | None = None,
-    progress: ProgressCallback | None = None,
-    threads: int | None = None,
+    **options: Unpack[RefineOptions],
 ) -> PolygonMesh: ...
 
 
