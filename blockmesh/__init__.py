@@ -47,7 +47,7 @@ _EXPORTS = {
     "load_domain": "domain.loading",
     "parse_polygon_string": "domain.loading",
     "Mesh": "mesh.mesh",
-    "MeshQuality": "mesh.mesh",
+    "MeshQuality": "mesh.quality",
     "PolygonMesh": "mesh.polygons",
     "IntegrationResult": "quadrature",
     "integrate": "quadrature",
@@ -131,8 +131,9 @@ if _typing.TYPE_CHECKING:  # for type checkers and IDEs: the names as if importe
         UnknownNameError,
     )
     from blockmesh.io import read, write
-    from blockmesh.mesh.mesh import Mesh, MeshQuality
+    from blockmesh.mesh.mesh import Mesh
     from blockmesh.mesh.polygons import PolygonMesh
+    from blockmesh.mesh.quality import MeshQuality
     from blockmesh.numerics.expr import parse_expression
     from blockmesh.quadrature import (
         IntegrationResult,

@@ -21,7 +21,8 @@ from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError
 from blockmesh.geometry.topology import cell_neighbours, connected_pieces, graph_components
-from blockmesh.mesh.mesh import Mesh, interface_summary
+from blockmesh.mesh.labels import interface_summary
+from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
 

@@ -22,7 +22,7 @@ import networkx as nx
 import numpy as np
 
 from blockmesh.geometry.topology import connected_pieces, count_loops
-from blockmesh.mesh.mesh import interface_summary
+from blockmesh.mesh.labels import interface_summary
 
 __all__ = ["block_graph", "certificate"]
 

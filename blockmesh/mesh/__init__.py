@@ -8,7 +8,8 @@ refinement's hanging nodes, the virtual element solver's meshes).
 
 from __future__ import annotations
 
-from blockmesh.mesh.mesh import Mesh, MeshQuality
+from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
+from blockmesh.mesh.quality import MeshQuality
 
 __all__ = ["Mesh", "MeshQuality", "PolygonMesh"]

@@ -1,7 +1,10 @@
-"""The all-pentagon mesh: a frozen dataclass of read-only arrays, and its measures.
+"""The all-pentagon mesh: a frozen dataclass of read-only arrays, its measures and quality.
 
 A :class:`Mesh` is what :func:`blockmesh.refine` returns and what integration and the writers take.
-Level 0 is the block mesh of a domain itself; every level splits each cell into six.
+Level 0 is the block mesh of a domain itself; every level splits each cell into six. What it
+shares with :class:`~blockmesh.mesh.polygons.PolygonMesh` has one home each: the arrays frozen
+and checked (:mod:`~blockmesh.mesh.arrays`), patches, regions, interfaces and relabelled copies
+(:mod:`~blockmesh.mesh.labels`), node numbering (:mod:`~blockmesh.mesh.numbering`).
 
 Examples
 --------
@@ -16,95 +19,34 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import MISSING, dataclass, field, fields
-from types import MappingProxyType
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from blockmesh.curves.edges import CurvedEdges, area_corrections
-from blockmesh.errors import ArgumentError, ArgumentTypeError, DomainError, UnknownNameError
-from blockmesh.geometry.topology import PolygonCells, boundary_of_cells, check_boundary
-from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas, widest_id_spread
+from blockmesh.errors import ArgumentError, DomainError
+from blockmesh.geometry.topology import boundary_of_cells, check_boundary
+from blockmesh.mesh import labels, numbering
+from blockmesh.mesh.arrays import (
+    NO_EDGES,
+    NO_IDS,
+    check_finite,
+    check_label_lengths,
+    check_range,
+    freeze_labels,
+    frozen,
+    trusted,
+)
+from blockmesh.mesh.labels import interface_summary
+from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas
+from blockmesh.mesh.numbering import BANDWIDTH_CHUNK
+from blockmesh.mesh.quality import MeshQuality
 
 __all__ = ["Mesh", "MeshQuality", "interface_summary"]
 
-
-#: The interfaces of a mesh that has none.
-_NO_EDGES = np.zeros((0, 2), dtype=np.int64)
-_NO_EDGES.setflags(write=False)
-_NO_IDS = np.zeros(0, dtype=np.int64)
-_NO_IDS.setflags(write=False)
-
 #: Cells whose areas :meth:`Mesh._check_cells` holds at once.
 _CHUNK = 1 << 18
-#: Cells per step of :meth:`Mesh.bandwidth` (five columns of int64 temporaries in cache).
-_BANDWIDTH_CHUNK = 1 << 15
-
-
-def _frozen(values: Any, dtype: Any, what: str, tail: tuple[int, ...] = ()) -> np.ndarray:
-    """``values`` as a contiguous read-only array of ``dtype`` and shape ``(n, *tail)``."""
-    integer = np.issubdtype(np.dtype(dtype), np.integer)
-    if integer and isinstance(values, np.ndarray) and values.dtype.kind == "f":
-        raise ArgumentTypeError(f"Mesh {what} must be integers, got {values.dtype}")
-    try:
-        array = np.ascontiguousarray(values, dtype=dtype)
-    except (TypeError, ValueError) as error:
-        raise ArgumentTypeError(
-            f"Mesh {what} cannot be read as {np.dtype(dtype)}: {error}"
-        ) from None
-    if array.ndim != 1 + len(tail) or array.shape[1:] != tail:
-        shape = "(n" + "".join(f", {t}" for t in tail) + ")"
-        raise ArgumentError(f"Mesh {what} must have shape {shape}, got {array.shape}")
-    if array.flags.writeable:
-        if array.base is not None or array is values:
-            array = array.copy()
-        array.setflags(write=False)
-    return array
-
-
-def _check_range(values: np.ndarray, low: int, high: int, what: str, upper: str) -> None:
-    """ArgumentError naming the first entry of ``values`` outside ``low..high - 1``."""
-    if values.size == 0:
-        return
-    if int(values.min()) >= low and int(values.max()) < high:
-        return
-    flat = values.reshape(values.shape[0], -1)
-    row = int(np.flatnonzero(np.any((flat < low) | (flat >= high), axis=1))[0])
-    shown = flat[row].tolist()
-    raise ArgumentError(
-        f"{what} {row} is {shown[0] if len(shown) == 1 else shown}, but {upper} "
-        f"(valid: {low}..{high - 1})"
-    )
-
-
-@dataclass(frozen=True)
-class MeshQuality:
-    """Shape measures of a mesh's cells (angles in degrees).
-
-    ``max_aspect_ratio`` is the largest diameter**2 / area over the cells (a regular pentagon has
-    1.52); ``area_ratio`` is the smallest cell area over the largest.
-    """
-
-    min_angle: float
-    max_angle: float
-    max_aspect_ratio: float
-    min_area: float
-    max_area: float
-    area_ratio: float
-    not_strictly_convex: int
-
-    def as_dict(self) -> dict[str, float | int]:
-        """Plain dictionary (JSON-ready)."""
-        return {
-            "min_angle": self.min_angle,
-            "max_angle": self.max_angle,
-            "max_aspect_ratio": self.max_aspect_ratio,
-            "min_area": self.min_area,
-            "max_area": self.max_area,
-            "area_ratio": self.area_ratio,
-            "not_strictly_convex": self.not_strictly_convex,
-        }
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -163,8 +105,8 @@ class Mesh:
     level: int = 0
     name: str = ""
     curves: CurvedEdges | None = None
-    interface_edges: np.ndarray = field(default_factory=lambda: _NO_EDGES)
-    interface_patch: np.ndarray = field(default_factory=lambda: _NO_IDS)
+    interface_edges: np.ndarray = field(default_factory=lambda: NO_EDGES)
+    interface_patch: np.ndarray = field(default_factory=lambda: NO_IDS)
     interface_names: tuple[str, ...] = ()
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
@@ -182,97 +124,54 @@ class Mesh:
         constructor also checks, are skipped. The refinement, whose indices come from the plan and
         are tested against the paper's numbering, skips the ranges (a pass over every array).
         """
-        mesh = object.__new__(cls)
-        for f in fields(cls):
-            if f.name in values:
-                value = values[f.name]
-            elif f.default_factory is not MISSING:
-                value = f.default_factory()
-            else:
-                value = f.default
-            object.__setattr__(mesh, f.name, value)
+        mesh = trusted(cls, values)
         mesh._freeze()
         mesh._check_arrays(ranges=check_ranges)
         return mesh
 
     def _freeze(self) -> None:
         set_ = object.__setattr__
-        set_(self, "points", _frozen(self.points, np.float64, "points", (2,)))
-        set_(self, "cells", _frozen(self.cells, np.int64, "cells", (5,)))
+        set_(self, "points", frozen(self.points, np.float64, "points", (2,)))
+        set_(self, "cells", frozen(self.cells, np.int64, "cells", (5,)))
         for name in ("block_id", "parent", "boundary_patch", "region", "interface_patch"):
-            set_(self, name, _frozen(getattr(self, name), np.int64, name))
-        set_(self, "boundary_edges", _frozen(self.boundary_edges, np.int64, "boundary_edges", (2,)))
+            set_(self, name, frozen(getattr(self, name), np.int64, name))
+        set_(self, "boundary_edges", frozen(self.boundary_edges, np.int64, "boundary_edges", (2,)))
         set_(
             self,
             "interface_edges",
-            _frozen(self.interface_edges, np.int64, "interface_edges", (2,)),
+            frozen(self.interface_edges, np.int64, "interface_edges", (2,)),
         )
-        for name in ("patch_names", "region_names", "interface_names"):
-            names = getattr(self, name)
-            if isinstance(names, str) or not all(isinstance(n, str) for n in names):
-                raise ArgumentTypeError(f"Mesh {name} must be a sequence of strings, got {names!r}")
-            if len(set(names)) != len(names):
-                raise ArgumentError(f"Mesh {name} must be different names, got {names!r}")
-            set_(self, name, tuple(names))
-        clash = sorted(set(self.interface_names) & set(self.patch_names))
-        if clash:
-            raise ArgumentError(
-                f"Mesh interface {clash[0]!r} has the name of a boundary patch; an interface is "
-                "an internal patch and needs a name of its own"
-            )
-        if isinstance(self.level, bool) or not isinstance(self.level, int | np.integer):
-            raise ArgumentTypeError(f"Mesh level must be a whole number, got {self.level!r}")
-        set_(self, "level", int(self.level))
-        if not isinstance(self.name, str):
-            raise ArgumentTypeError(f"Mesh name must be a string, got {self.name!r}")
-        if self.curves is not None and not isinstance(self.curves, CurvedEdges):
-            raise ArgumentTypeError(
-                f"Mesh curves must be a blockmesh.curves.CurvedEdges or None, got {self.curves!r}"
-            )
+        freeze_labels(self, "Mesh")
 
     def _check_arrays(self, *, ranges: bool = True) -> None:
         """Shapes, lengths and (O(M)) index ranges."""
-        n, m, eb = self.n_points, self.n_cells, int(self.boundary_edges.shape[0])
-        for name in ("block_id", "parent", "region"):
-            length = getattr(self, name).shape[0]
-            if length != m:
-                raise ArgumentError(f"Mesh {name} has {length} entries for {m} cells")
-        if self.boundary_patch.shape[0] != eb:
-            raise ArgumentError(
-                f"Mesh boundary_patch has {self.boundary_patch.shape[0]} entries for {eb} "
-                "boundary edges"
-            )
-        ei = int(self.interface_edges.shape[0])
-        if self.interface_patch.shape[0] != ei:
-            raise ArgumentError(
-                f"Mesh interface_patch has {self.interface_patch.shape[0]} entries for {ei} "
-                "interface edges"
-            )
+        check_label_lengths(self, "Mesh", ("block_id", "parent", "region"))
         if not ranges:
             return
+        n = self.n_points
         points_note = f"there are {n} points"
-        _check_range(self.cells, 0, n, "cell", points_note)
-        _check_range(self.boundary_edges, 0, n, "boundary edge", points_note)
+        check_range(self.cells, 0, n, "cell", points_note)
+        check_range(self.boundary_edges, 0, n, "boundary edge", points_note)
         if self.curves is not None:
-            _check_range(self.curves.edges, 0, n, "curved edge", points_note)
-        _check_range(self.block_id, 0, np.iinfo(np.int64).max, "block_id of cell", "ids are >= 0")
-        _check_range(self.parent, -1, np.iinfo(np.int64).max, "parent of cell", "ids are >= -1")
-        _check_range(
+            check_range(self.curves.edges, 0, n, "curved edge", points_note)
+        check_range(self.block_id, 0, np.iinfo(np.int64).max, "block_id of cell", "ids are >= 0")
+        check_range(self.parent, -1, np.iinfo(np.int64).max, "parent of cell", "ids are >= -1")
+        check_range(
             self.boundary_patch,
             0,
             len(self.patch_names),
             "boundary_patch of edge",
             f"there are {len(self.patch_names)} patch names",
         )
-        _check_range(
+        check_range(
             self.region,
             0,
             len(self.region_names),
             "region of cell",
             f"there are {len(self.region_names)} region names",
         )
-        _check_range(self.interface_edges, 0, n, "interface edge", points_note)
-        _check_range(
+        check_range(self.interface_edges, 0, n, "interface edge", points_note)
+        check_range(
             self.interface_patch,
             0,
             len(self.interface_names),
@@ -282,9 +181,7 @@ class Mesh:
 
     def _check_cells(self) -> None:
         """Finite points, counter-clockwise cells, boundary edges exactly the free cell edges."""
-        if not np.all(np.isfinite(self.points)):
-            bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
-            raise ArgumentError(f"point {bad} {self.points[bad].tolist()} is not finite")
+        check_finite(self.points)
         areas = np.empty(min(self.n_cells, _CHUNK))
         for start in range(0, self.n_cells, _CHUNK):
             cells = self.cells[start : start + _CHUNK]
@@ -367,8 +264,8 @@ class Mesh:
         if "edges" not in self._cache:
             edges = np.empty((self.n_edges, 2), dtype=np.int64)
             filled = 0
-            for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
-                tail = self.cells[start : start + _BANDWIDTH_CHUNK]
+            for start in range(0, self.n_cells, BANDWIDTH_CHUNK):
+                tail = self.cells[start : start + BANDWIDTH_CHUNK]
                 head = tail[:, [1, 2, 3, 4, 0]]
                 upward = tail < head
                 count = int(np.count_nonzero(upward))
@@ -452,15 +349,13 @@ class Mesh:
         (56.3, 150.3, 0)
         """
         m = self._measures(progress) if chunk is None else measure_cells(self, chunk=chunk)
-        ratio = m.min_area / m.max_area if m.max_area > 0 else 0.0
-        return MeshQuality(
-            m.min_angle,
-            m.max_angle,
-            m.max_aspect_ratio,
-            m.min_area,
-            m.max_area,
-            ratio,
-            m.not_strictly_convex,
+        return MeshQuality.of(
+            min_angle=m.min_angle,
+            max_angle=m.max_angle,
+            max_aspect_ratio=m.max_aspect_ratio,
+            min_area=m.min_area,
+            max_area=m.max_area,
+            not_strictly_convex=m.not_strictly_convex,
         )
 
     def check_geometry(self) -> None:
@@ -475,9 +370,7 @@ class Mesh:
         >>> import blockmesh
         >>> blockmesh.load_domain("sp").mesh(3).check_geometry()
         """
-        if not np.all(np.isfinite(self.points)):
-            bad = int(np.flatnonzero(~np.all(np.isfinite(self.points), axis=1))[0])
-            raise DomainError(f"point {bad} {self.points[bad].tolist()} is not finite")
+        check_finite(self.points, DomainError)
         measures = self._measures()
         failed, first = measures.invalid, measures.first_invalid
         if failed:
@@ -504,12 +397,7 @@ class Mesh:
         """
         if "measures" in self._cache:
             return self._cache["measures"].bandwidth
-        work = np.empty((2, _BANDWIDTH_CHUNK), dtype=np.int64)
-        widest = 0
-        for start in range(0, self.n_cells, _BANDWIDTH_CHUNK):
-            columns = self.cells[start : start + _BANDWIDTH_CHUNK].T
-            widest = max(widest, widest_id_spread(columns, work[:, : columns.shape[1]]))
-        return widest
+        return numbering.bandwidth(self.cells)
 
     def renumbered(self, order: np.ndarray) -> Mesh:
         """The same mesh with node ``order[k]`` renamed ``k`` (a permutation of ``0..N-1``).
@@ -522,25 +410,7 @@ class Mesh:
         >>> bool(np.allclose(again.points[again.cells], mesh.points[mesh.cells]))
         True
         """
-        try:
-            order = np.asarray(order, dtype=np.int64)
-        except (TypeError, ValueError) as error:
-            raise ArgumentTypeError(
-                f"order must be an array of node ids, got {type(order).__name__} {order!r:.60}"
-            ) from error
-        if order.shape != (self.n_points,) or not np.array_equal(
-            np.sort(order), np.arange(self.n_points)
-        ):
-            raise ArgumentError("order must be a permutation of the node ids 0..N-1")
-        new_id = np.empty_like(order)
-        new_id[order] = np.arange(self.n_points)
-        return self._copy(
-            points=self.points[order],
-            cells=new_id[self.cells],
-            boundary_edges=new_id[self.boundary_edges],
-            interface_edges=new_id[self.interface_edges],
-            curves=None if self.curves is None else self.curves.renumbered(new_id),
-        )
+        return numbering.renumbered(self, order, "cells")
 
     def with_rcm_numbering(self) -> Mesh:
         """Nodes renumbered by reverse Cuthill-McKee (scipy) on the cell connectivity graph.
@@ -552,16 +422,7 @@ class Mesh:
         >>> mesh.with_rcm_numbering().bandwidth() < mesh.bandwidth()
         True
         """
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.csgraph import reverse_cuthill_mckee
-
-        rows = np.repeat(self.cells, 5, axis=1).ravel()
-        cols = np.tile(self.cells, (1, 5)).ravel()
-        graph = coo_matrix(
-            (np.ones(rows.size, dtype=np.int8), (rows, cols)), shape=(self.n_points,) * 2
-        ).tocsr()
-        order = reverse_cuthill_mckee(graph, symmetric_mode=True)
-        return self.renumbered(np.asarray(order, dtype=np.int64))
+        return self.renumbered(numbering.rcm_order(self.cells, self.n_points))
 
     # ------------------------------------------------------------ boundaries
     def patch_edges(self, patch: str) -> np.ndarray:
@@ -573,11 +434,7 @@ class Mesh:
         >>> blockmesh.load_domain("sp").mesh(2).patch_edges("boundary").shape
         (20, 2)
         """
-        if patch not in self.patch_names:
-            raise UnknownNameError(
-                f"no patch {patch!r}; the patches are {', '.join(self.patch_names)}"
-            )
-        return self.boundary_edges[self.boundary_patch == self.patch_names.index(patch)]
+        return labels.patch_edges(self, patch)
 
     @property
     def interfaces(self) -> Mapping[str, np.ndarray]:
@@ -590,12 +447,7 @@ class Mesh:
         >>> {name: len(edges) for name, edges in mesh.interfaces.items()}
         {'bottom|core': 24, 'core|top': 24}
         """
-        return MappingProxyType(
-            {
-                name: self.interface_edges[self.interface_patch == k]
-                for k, name in enumerate(self.interface_names)
-            }
-        )
+        return labels.interfaces_by_name(self)
 
     def interface_cells(self) -> np.ndarray:
         """The two cells of every interface edge, (Ei, 2): the one on its left, then its right.
@@ -611,18 +463,12 @@ class Mesh:
         >>> [mesh.region_names[k] for k in sides[0]]
         ['bottom', 'core']
         """
-        if "interface_cells" not in self._cache:
-            self._cache["interface_cells"] = _edge_cells(
-                self.cells, self.interface_edges, self.n_points
-            )
-        return self._cache["interface_cells"]
+        return labels.interface_cells(self, self.cells)
 
     # ------------------------------------------------------------ copies
     def _copy(self, **changes: Any) -> Mesh:
         """A copy with some arrays replaced; the cheap checks run, the caches start empty."""
-        values = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "_cache"}
-        values.update(changes)
-        return Mesh._trusted(**values)
+        return labels.copy_mesh(self, changes)
 
     def with_patches(self, boundary_patch: Any, patch_names: Any) -> Mesh:
         """The same mesh with its boundary edges put in other patches.
@@ -641,7 +487,7 @@ class Mesh:
         >>> mesh.with_patches(first, ["wall", "inlet"]).patch_edges("inlet").tolist()
         [[0, 5], [5, 1]]
         """
-        return self._copy(boundary_patch=boundary_patch, patch_names=tuple(patch_names))
+        return labels.with_patches(self, boundary_patch, patch_names)
 
     def with_regions(self, region: Any, region_names: Any) -> Mesh:
         """The same mesh with its cells put in other regions (``region`` indexes the names).
@@ -653,7 +499,7 @@ class Mesh:
         >>> mesh.with_regions(np.arange(6) % 2, ["even", "odd"]).region_names
         ('even', 'odd')
         """
-        return self._copy(region=region, region_names=tuple(region_names))
+        return labels.with_regions(self, region, region_names)
 
     def with_interfaces(
         self, interface_edges: Any, interface_patch: Any, interface_names: Any
@@ -675,13 +521,7 @@ class Mesh:
         >>> mesh.with_interfaces([[1, 2]], [0], ["glue"]).interfaces["glue"].tolist()
         [[1, 2]]
         """
-        changed = self._copy(
-            interface_edges=interface_edges,
-            interface_patch=interface_patch,
-            interface_names=tuple(interface_names),
-        )
-        changed.interface_cells()
-        return changed
+        return labels.with_interfaces(self, interface_edges, interface_patch, interface_names)
 
     def with_points(self, points: Any) -> Mesh:
         """The same cells on moved nodes (e.g. after smoothing); orientation is checked again.
@@ -693,9 +533,7 @@ class Mesh:
         >>> round(mesh.with_points(2 * mesh.points).area, 12)
         20.0
         """
-        moved = self._copy(points=points)
-        moved._check_cells()
-        return moved
+        return labels.with_points(self, points)
 
     def with_name(self, name: str) -> Mesh:
         """The same mesh under another name."""
@@ -704,14 +542,9 @@ class Mesh:
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
         name = f"{self.name!r}, " if self.name else ""
-        interfaces = (
-            f"; interfaces {', '.join(self.interface_names)}" if self.interface_names else ""
-        )
         return (
             f"Mesh({name}level {self.level}: {self.n_cells:,} cells, {self.n_points:,} points, "
-            f"{self.boundary_edges.shape[0]:,} boundary edges; patches "
-            f"{', '.join(self.patch_names) or '-'}; regions {', '.join(self.region_names) or '-'}"
-            f"{interfaces})"
+            f"{self.boundary_edges.shape[0]:,} boundary edges; {labels.labels_text(self)})"
         )
 
     def nbytes(self) -> int:
@@ -724,64 +557,3 @@ class Mesh:
             + self.interface_edges.nbytes
             + self.interface_patch.nbytes
         )
-
-
-def interface_summary(mesh: Any) -> dict[str, dict[str, Any]]:
-    """Each interface of ``mesh`` (a Mesh or PolygonMesh): its edges and the regions beside it.
-
-    ``{name: {"edges": count, "between": [first side's regions, second side's]}}``, the regions
-    of the cells on the left and on the right of its edges (one each on a composite domain).
-
-    Examples
-    --------
-    >>> import blockmesh
-    >>> mesh = blockmesh.load_domain("layered-plate").mesh(1)
-    >>> interface_summary(mesh)["core|top"]
-    {'edges': 24, 'between': ['core', 'top']}
-    """
-    out: dict[str, dict[str, Any]] = {}
-    if not mesh.interface_names:
-        return out
-    cells = mesh.interface_cells()
-    for k, name in enumerate(mesh.interface_names):
-        mine = cells[mesh.interface_patch == k]
-        sides = [
-            sorted({mesh.region_names[r] for r in mesh.region[mine[:, j]].tolist()}) for j in (0, 1)
-        ]
-        out[name] = {"edges": int(mine.shape[0]), "between": [", ".join(s) for s in sides]}
-    return out
-
-
-def _edge_cells(cells: np.ndarray | PolygonCells, edges: np.ndarray, n_points: int) -> np.ndarray:
-    """The cell on the left and the cell on the right of each edge, (E, 2); located errors.
-
-    ``cells`` are an (M, k) array or the compressed rows of a polygon mesh.
-    """
-    out = np.empty((edges.shape[0], 2), dtype=np.int64)
-    if edges.shape[0] == 0:
-        out.setflags(write=False)
-        return out
-    owner: np.ndarray | None = None  # the cell of every slot (else slot // k)
-    if isinstance(cells, PolygonCells):
-        keys = cells.nodes * n_points + cells.following()
-        owner, width = cells.slot_cell(), 0
-    else:
-        keys = (cells * n_points + np.roll(cells, -1, axis=1)).ravel()
-        width = cells.shape[1]
-    order = np.argsort(keys, kind="stable")
-    ordered = keys[order]
-    for side, (a, b) in enumerate(((edges[:, 0], edges[:, 1]), (edges[:, 1], edges[:, 0]))):
-        wanted = a * n_points + b
-        at = np.minimum(np.searchsorted(ordered, wanted), ordered.size - 1)
-        found = ordered[at] == wanted
-        if not np.all(found):
-            k = int(np.flatnonzero(~found)[0])
-            raise ArgumentError(
-                f"interface edge {k} ({int(edges[k, 0])}, {int(edges[k, 1])}) is not an edge "
-                "between two cells; an interface runs between cells (boundary edges belong to "
-                "patches)"
-            )
-        slots = order[at]
-        out[:, side] = slots // width if owner is None else owner[slots]
-    out.setflags(write=False)
-    return out

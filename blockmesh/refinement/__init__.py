@@ -8,6 +8,8 @@
 - :mod:`~blockmesh.refinement.grouped`: groups of blocks refined on worker threads;
 - :mod:`~blockmesh.refinement.curved`, :mod:`~blockmesh.refinement.smoothing`,
   :mod:`~blockmesh.refinement.improve`: node placements other than the paper's midpoints;
+- :mod:`~blockmesh.refinement.limits`: the memory and precision a level needs, checked first;
+- :mod:`~blockmesh.refinement.assemble`: the blocks refined and the Mesh assembled from them;
 - :mod:`~blockmesh.refinement.pipeline`: :func:`refine` itself, which ties them together;
 - :mod:`~blockmesh.refinement.local`: with ``cells=``, only the marked cells split (hanging
   nodes, a :class:`~blockmesh.mesh.polygons.PolygonMesh`); :mod:`~blockmesh.refinement.marking`

@@ -14,6 +14,11 @@ cells with the paper's arithmetic. Blocks, in groups, are refined independently 
 straight into the output (:mod:`blockmesh.refinement.grouped`); a deep refinement first refines the
 base and uses its cells as blocks, which the nested numbering makes the same mesh bit for bit.
 
+This module is the entry point (:func:`refine`, :func:`check_level`): it reads the arguments,
+checks that the level fits (:mod:`blockmesh.refinement.limits`), has the mesh built and assembled
+(:mod:`blockmesh.refinement.assemble`), grades and renumbers it; with ``cells=`` it hands over to
+local refinement (:mod:`blockmesh.refinement.local`).
+
 Examples
 --------
 >>> import blockmesh
@@ -25,21 +30,18 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Protocol, overload
+from typing import Any, Protocol, TypedDict, Unpack, overload
 
 import numpy as np
 
-import blockmesh.refinement.grouped as grouped
-from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.checks import choice, whole_number
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ResourceError
-from blockmesh.geometry.topology import boundary_slots, cell_neighbours
+from blockmesh.geometry.topology import cell_neighbours
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh, as_polygon_mesh
-from blockmesh.refinement.curved import CurvedBlocks, place_on_curves
+from blockmesh.refinement.assemble import build, build_placed
 from blockmesh.refinement.grading import graded_mesh
-from blockmesh.refinement.grouped import RefinedBlocks, refine_blocks
-from blockmesh.refinement.interfaces import refined_interfaces
+from blockmesh.refinement.limits import check_memory, check_precision
 from blockmesh.refinement.local import refine_locally
 from blockmesh.refinement.placement import (
     LaplacianSmoothing,
@@ -47,11 +49,6 @@ from blockmesh.refinement.placement import (
     Placement,
     as_placement,
 )
-from blockmesh.refinement.plan import edge_id_table, group_node_ids, plan_refinement
-from blockmesh.refinement.plan import place_level as _place_level
-from blockmesh.refinement.sizes import MeshSize, largest_fitting_level, predict_size
-from blockmesh.refinement.smoothing import block_edge_nodes, smooth_interior
-from blockmesh.refinement.template import node_count, pentagon_template
 
 __all__ = ["MAX_LEVEL", "MAX_SMOOTH", "NUMBERINGS", "check_level", "refine"]
 
@@ -83,19 +80,25 @@ def _block_mesh_of(target: BlockSource | Mesh | PolygonMesh) -> Mesh:
     raise ArgumentTypeError(f"refine() takes a Domain or a Mesh, not {type(target).__name__}")
 
 
+class RefineOptions(TypedDict, total=False):
+    """The keywords of :func:`refine` that do not change what it returns (see there)."""
+
+    scheme: str
+    numbering: str
+    smooth: int
+    placement: str | Placement
+    max_memory: int | None
+    progress: ProgressCallback | None
+    threads: int | None
+
+
 @overload
 def refine(
     domain_or_mesh: BlockSource | Mesh,
     level: int,
     *,
     cells: None = None,
-    scheme: str = "pentagons",
-    numbering: str = "nested",
-    smooth: int = 0,
-    placement: str | Placement = "paper",
-    max_memory: int | None = None,
-    progress: ProgressCallback | None = None,
-    threads: int | None = None,
+    **options: Unpack[RefineOptions],
 ) -> Mesh: ...
 
 
@@ -105,13 +108,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any,
-    scheme: str = "pentagons",
-    numbering: str = "nested",
-    smooth: int = 0,
-    placement: str | Placement = "paper",
-    max_memory: int | None = None,
-    progress: ProgressCallback | None = None,
-    threads: int | None = None,
+    **options: Unpack[RefineOptions],
 ) -> PolygonMesh: ...
 
 
@@ -121,13 +118,7 @@ def refine(
     level: int | None = None,
     *,
     cells: Any = None,
-    scheme: str = "pentagons",
-    numbering: str = "nested",
-    smooth: int = 0,
-    placement: str | Placement = "paper",
-    max_memory: int | None = None,
-    progress: ProgressCallback | None = None,
-    threads: int | None = None,
+    **options: Unpack[RefineOptions],
 ) -> PolygonMesh: ...
 
 
@@ -242,13 +233,13 @@ def refine(
     base = _block_mesh_of(domain_or_mesh)
     neighbour = cell_neighbours(base.cells, base.n_points)
     n_shared = int(np.count_nonzero(neighbour >= 0)) // 2
-    _check_memory(base, n_shared, level, max_memory)
-    _check_precision(base, level)
+    check_memory(base, n_shared, level, max_memory)
+    check_precision(base, level)
     try:
         if placement.nested:
-            mesh = _build(base, neighbour, level, smooth, progress, threads)
+            mesh = build(base, neighbour, level, smooth, progress, threads)
         else:
-            mesh = _build_placed(base, level, smooth, placement, progress, threads)
+            mesh = build_placed(base, level, smooth, placement, progress, threads)
     except MemoryError:
         raise ResourceError(
             f"ran out of memory refining {base.name or 'the mesh'} to level {base.level + level} "
@@ -297,143 +288,6 @@ def _refine_locally(
     )
 
 
-def _build_placed(
-    base: Mesh, level: int, smooth: int, placement: Placement, progress, threads: int | None
-) -> Mesh:
-    """One level at a time, the nodes of each new level placed by ``placement``."""
-    mesh = base
-    for step in range(level):
-        neighbour = cell_neighbours(mesh.cells, mesh.n_points)
-        mesh = placement.after_level(_build(mesh, neighbour, 1, smooth, None, threads))
-        if progress is not None:
-            progress(step + 1, level)
-    return mesh
-
-
-def _build(
-    base: Mesh,
-    neighbour: np.ndarray,
-    level: int,
-    smooth: int,
-    progress,
-    threads: int | None = None,
-) -> Mesh:
-    """The refined mesh; cells with curved edges follow the curve-aware rule in the same pass.
-
-    With smoothing, every block is refined at once level by level (the sweeps cross blocks) and
-    the curved cells are then recomputed by :func:`~blockmesh.refinement.curved.place_on_curves`.
-    """
-    has_curves = base.curves is not None and len(base.curves) > 0
-    if smooth:
-        mesh = _build_smoothed(base, neighbour, level, smooth, progress)
-        return place_on_curves(base, mesh, level, smooth) if has_curves else mesh
-    if level > grouped.BLOCK_LEVEL:
-        # Refine the base to the difference first and its cells as blocks (see BLOCK_LEVEL).
-        first = level - grouped.BLOCK_LEVEL
-        base = _build(base, neighbour, first, 0, None, threads)
-        neighbour = cell_neighbours(base.cells, base.n_points)
-        level -= first
-    curved = CurvedBlocks(base, level) if has_curves else None
-    refined = refine_blocks(
-        base, neighbour, level, curved=curved, threads=threads, progress=progress
-    )
-    return _assemble(base, refined, level, curved, neighbour)
-
-
-def _build_smoothed(base: Mesh, neighbour: np.ndarray, level: int, smooth: int, progress) -> Mesh:
-    """All blocks at once, level by level, with ``smooth`` Laplacian sweeps after each level."""
-    plan = plan_refinement(base.cells, neighbour, base.n_points, level)
-    edge_ids = edge_id_table(plan)
-    template = pentagon_template(level)
-    ids = group_node_ids(plan, 0, base.n_cells, edge_ids, template=template)
-    local = np.empty((base.n_cells, template.n_nodes), dtype=np.complex128)
-    local[:, :5] = base.points.view(np.complex128)[base.cells, 0]
-    points = np.empty(plan.n_nodes, dtype=np.complex128)
-    fixed = block_edge_nodes(ids, template)
-    for step in range(1, level + 1):
-        lo, hi = node_count(step - 1), node_count(step)
-        _place_level(local, template.steps[step - 1], lo)
-        level_cells = ids[:, template.cells_of_level(step)].reshape(-1, 5)
-        points[ids[:, :hi]] = local[:, :hi]
-        n_level = int(ids[:, :hi].max()) + 1
-        xy = points.view(np.float64).reshape(-1, 2)
-        smooth_interior(xy, level_cells, n_level, fixed, smooth)
-        local[:, :hi] = points[ids[:, :hi]]
-        if progress is not None:
-            progress(step, level)
-    np.put(points, ids, local, mode="clip")  # shared nodes get the same value twice
-    del local
-    cell, edge = np.divmod(
-        boundary_slots(base.cells, neighbour, base.boundary_edges, base.n_points), 5
-    )
-    per_block = 6**level
-    refined = RefinedBlocks(
-        points=points.view(np.float64).reshape(-1, 2),
-        cells=np.take(ids, template.cells, axis=1, mode="clip").reshape(-1, 5),
-        block_id=_repeat(base.block_id, per_block),
-        parent=_parents(base.n_cells * per_block, level),
-        region=_repeat(base.region, per_block),
-        boundary_nodes=edge_ids[cell, edge],
-    )
-    return _assemble(base, refined, level, neighbour=neighbour)
-
-
-def _assemble(
-    base: Mesh,
-    refined: RefinedBlocks,
-    steps: int,
-    curved: CurvedBlocks | None = None,
-    neighbour: np.ndarray | None = None,
-) -> Mesh:
-    """The Mesh of ``base`` refined ``steps`` times from the arrays ``refined``.
-
-    ``curved``, when given, has recorded every curved block: the mesh gets its refined curves.
-    ``neighbour`` (the base's cell neighbours) is needed when the base has interfaces.
-    """
-    along = refined.boundary_nodes
-    boundary_edges = np.stack([along[:, :-1], along[:, 1:]], axis=-1).reshape(-1, 2)
-    arrays = {
-        "points": refined.points,
-        "cells": refined.cells,
-        "block_id": refined.block_id,
-        "parent": refined.parent if steps else base.parent,  # no step: the same cells
-        "boundary_edges": boundary_edges,
-        "boundary_patch": np.repeat(base.boundary_patch, 2**steps),
-        "region": refined.region,
-    }
-    if base.interface_edges.shape[0]:
-        if neighbour is None:
-            neighbour = cell_neighbours(base.cells, base.n_points)
-        arrays["interface_edges"] = refined_interfaces(base, neighbour, steps)
-        arrays["interface_patch"] = np.repeat(base.interface_patch, 2**steps)
-    for array in arrays.values():
-        array.setflags(write=False)
-    return Mesh._trusted(
-        check_ranges=False,
-        **arrays,
-        patch_names=base.patch_names,
-        region_names=base.region_names,
-        interface_names=base.interface_names,
-        level=base.level + steps,
-        name=base.name,
-        curves=None if curved is None else curved.refined(),
-    )
-
-
-def _parents(n_cells: int, steps: int) -> np.ndarray:
-    """Parent of each refined cell: cell c comes from cell c // 6 (none without refinement)."""
-    if steps == 0:
-        return np.full(n_cells, -1, dtype=np.int64)
-    return np.repeat(np.arange(n_cells // 6, dtype=np.int64), 6)
-
-
-def _repeat(values: np.ndarray, count: int) -> np.ndarray:
-    """``np.repeat(values, count)``; all zeros come from ``np.zeros`` (lazily zeroed memory)."""
-    if not np.any(values):
-        return np.zeros(values.size * count, dtype=np.int64)
-    return np.repeat(values, count)
-
-
 def check_level(
     domain_or_mesh: BlockSource | Mesh, level: int, *, max_memory: int | None = None
 ) -> None:
@@ -456,73 +310,5 @@ def check_level(
         max_memory = whole_number(max_memory, "max_memory", minimum=1)
     base = _block_mesh_of(domain_or_mesh)
     neighbour = cell_neighbours(base.cells, base.n_points)
-    _check_memory(base, int(np.count_nonzero(neighbour >= 0)) // 2, level, max_memory)
-    _check_precision(base, level)
-
-
-def _check_memory(base: Mesh, n_shared: int, level: int, max_memory: int | None) -> None:
-    n_boundary = 5 * base.n_cells - 2 * n_shared
-    limit = available_memory() if max_memory is None else int(max_memory)
-
-    def size(steps: int) -> MeshSize:
-        return predict_size(
-            base.n_cells, base.n_points, n_shared, n_boundary, steps, base.level + steps
-        )
-
-    wanted = size(level)
-    if wanted.peak_bytes <= limit:
-        return
-
-    fits = largest_fitting_level(size, level, limit)  # type: ignore[arg-type]
-    source = "the limit given" if max_memory is not None else "the memory available now"
-    advice = (
-        f"the largest level that fits is {base.level + fits}"
-        if fits >= 0
-        else "not even the unrefined mesh fits"
-    )
-    name = f" of {base.name!r}" if base.name else ""
-    raise ResourceError(
-        f"level {base.level + level}{name} needs about {format_bytes(wanted.peak_bytes)} "
-        f"({format_count(wanted.cells)} cells, {format_count(wanted.nodes)} nodes), more than "
-        f"{source} ({format_bytes(limit)}); {advice}"
-    )
-
-
-#: Each level shrinks the shortest cell edge by at most this factor (half the length, and the
-#: inner cells' worsening shape; measured 0.43..0.5 per level on the catalogue).
-_EDGE_SHRINK = 0.4
-#: Shortest edge allowed, in units of the coordinates' spacing (ulp) where the mesh lies.
-_MIN_EDGE_ULPS = 64
-
-
-def _check_precision(base: Mesh, level: int) -> None:
-    """Refuse a level whose cells double precision cannot resolve where the mesh lies.
-
-    Far from the origin the spacing of float64 numbers (their ulp) grows: at 1e15 it is 0.125, so
-    a unit square there cannot hold cells a tenth across. The shortest edge at ``level`` is
-    estimated from the base's shortest edge and compared with the ulp of the largest coordinate.
-    """
-    if level == 0 or base.n_cells == 0:
-        return
-    xy = base.points[base.cells]
-    edges = np.hypot(*(np.roll(xy, -1, axis=1) - xy).transpose(2, 0, 1))
-    shortest = float(edges.min())
-    spacing = float(np.spacing(np.max(np.abs(base.points))))
-    finest = next(
-        (k for k in range(level + 1) if shortest * _EDGE_SHRINK**k < _MIN_EDGE_ULPS * spacing),
-        None,
-    )
-    if finest is None:
-        return
-    where = float(np.max(np.abs(base.points)))
-    usable = (
-        f"the highest level it resolves is {base.level + finest - 1}"
-        if finest > 0
-        else "not even the unrefined mesh is resolved"
-    )
-    raise ResourceError(
-        f"level {base.level + level} would need cells about "
-        f"{shortest * _EDGE_SHRINK**level:.2g} across at coordinates near {where:.3g}, where "
-        f"double precision only resolves steps of {spacing:.2g}; {usable}. Move the domain "
-        "near the origin (subtract a point inside it from every vertex) to refine further"
-    )
+    check_memory(base, int(np.count_nonzero(neighbour >= 0)) // 2, level, max_memory)
+    check_precision(base, level)
