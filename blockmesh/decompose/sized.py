@@ -433,31 +433,14 @@ def _kept(points: np.ndarray, domain) -> np.ndarray:
     return triangles[_inside(domain, points[triangles].mean(axis=1))]
 
 
-def _fill(points: np.ndarray, domain, length, rounds: int = 60) -> np.ndarray:
-    """Add centroids of triangles larger than an equilateral triangle of side ``length``."""
-    for _ in range(rounds):
-        triangles = _kept(points, domain)
-        xy = points[triangles]
-        centre = xy.mean(axis=1)
-        u, v = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
-        area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
-        target = (math.sqrt(3) / 4) * length(centre) ** 2
-        big = area > 1.5 * target
-        if not big.any():
-            return points
-        if len(points) + int(big.sum()) > MAX_BLOCKS // 4:
-            raise ResourceError(
-                f"the size field asks for more than {MAX_BLOCKS:,} blocks; give larger sizes"
-            )
-        points = np.vstack([points, centre[big]])
-    return points
+def _fill(
+    points: np.ndarray, domain, length, rounds: int = 60, *, span: float | None = None
+) -> np.ndarray:
+    """Add centroids of triangles larger than an equilateral triangle of side ``length``.
 
-
-def _fill_spans(points: np.ndarray, domain, length, rounds: int = 60) -> np.ndarray:
-    """Add the centroids of triangles with a side longer than :data:`_SPAN` times ``length``.
-
-    The gap-aware step: a gap narrower than a few triangle sides, between stretches of the
-    outline whose points are closer than the field asks, is first spanned by long thin
+    With ``span``, of triangles with a side longer than ``span`` times ``length`` instead: the
+    gap-aware step (:data:`_SPAN`). A gap narrower than a few triangle sides, between stretches
+    of the outline whose points are closer than the field asks, is first spanned by long thin
     triangles from one side to the other; their centroids put points in the gap, round after
     round, until every triangle there is about as long as wide.
     """
@@ -465,15 +448,21 @@ def _fill_spans(points: np.ndarray, domain, length, rounds: int = 60) -> np.ndar
         triangles = _kept(points, domain)
         xy = points[triangles]
         centre = xy.mean(axis=1)
-        longest = np.max(np.hypot(*(xy - np.roll(xy, 1, axis=1)).transpose(2, 0, 1)), axis=1)
-        long = longest > _SPAN * length(centre)
-        if not long.any():
+        wanted = length(centre)
+        if span is None:
+            u, v = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+            area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+            big = area > 1.5 * (math.sqrt(3) / 4) * wanted**2
+        else:
+            sides = np.hypot(*(xy - np.roll(xy, 1, axis=1)).transpose(2, 0, 1))
+            big = sides.max(axis=1) > span * wanted
+        if not big.any():
             return points
-        if len(points) + int(long.sum()) > MAX_BLOCKS // 4:
+        if len(points) + int(big.sum()) > MAX_BLOCKS // 4:
             raise ResourceError(
                 f"the size field asks for more than {MAX_BLOCKS:,} blocks; give larger sizes"
             )
-        points = np.vstack([points, centre[long]])
+        points = np.vstack([points, centre[big]])
     return points
 
 
@@ -946,7 +935,7 @@ def sized_blocks(
     domain = _domain_test(chains, chains.local())
     points = _fill(chains.local(), domain, length)
     points = _thin(points, chains.n, domain, length)
-    points = _fill_spans(points, domain, length)
+    points = _fill(points, domain, length, span=_SPAN)
     points, scale = _relax(points, chains.n, domain, length, chains.segments())
     free = points[chains.n :]
     optimised_once = False
