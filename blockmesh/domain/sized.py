@@ -37,12 +37,8 @@ import numpy as np
 
 from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.curves.types import Arc, Curve, Polyline
-from blockmesh.decompose.sized import (
-    ChainCurve,
-    Outline,
-    arc_pieces,
-    sized_blocks,
-)
+from blockmesh.decompose.outline import ChainCurve, Outline, arc_pieces
+from blockmesh.decompose.sized import sized_blocks
 from blockmesh.errors import ArgumentError, DomainError, ResourceError, fmt_point
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
 from blockmesh.sizing.fields import SizeField, checked_sizes
@@ -58,7 +54,7 @@ __all__ = ["BYTES_PER_BLOCK", "DomainGeometry", "resized", "size_fits"]
 #: relaxation and the optimiser's work arrays: 3.8 kB measured at 100,000 blocks, with a margin).
 BYTES_PER_BLOCK = 4608
 #: Depth to which the curved blocks of a sized domain are checked (each of their curved edges
-#: turns by at most a third of :data:`~blockmesh.decompose.sized.CURVE_TURN`, 10 degrees, so
+#: turns by at most a third of :data:`~blockmesh.decompose.outline.CURVE_TURN`, 10 degrees, so
 #: the curve-aware refinement meets no new fold deeper down; the full check would refine each
 #: to 7,776 cells).
 CURVE_CHECK_LEVELS = 3
