@@ -37,16 +37,12 @@ import numpy as np
 
 from blockmesh._system.memory import available_memory, format_bytes, format_count
 from blockmesh.curves.types import Arc, Curve, Polyline
-from blockmesh.decompose.sized import (
-    ChainCurve,
-    Outline,
-    arc_pieces,
-    sized_blocks,
-)
+from blockmesh.decompose.outline import ChainCurve, Outline, arc_pieces
+from blockmesh.decompose.sized import sized_blocks
 from blockmesh.errors import ArgumentError, DomainError, ResourceError, fmt_point
 from blockmesh.geometry.polygons import COLLINEAR_SIN_TOL
-from blockmesh.sizing.fields import Scaled, SizeField, checked_sizes
-from blockmesh.sizing.predict import ideal_count
+from blockmesh.sizing.fields import SizeField, checked_sizes
+from blockmesh.sizing.predict import EVALUATIONS, FLOOR, ideal_count, smallest_size
 from blockmesh.sizing.spec import SizeSpec, as_size_spec
 
 if TYPE_CHECKING:
@@ -58,7 +54,7 @@ __all__ = ["BYTES_PER_BLOCK", "DomainGeometry", "resized", "size_fits"]
 #: relaxation and the optimiser's work arrays: 3.8 kB measured at 100,000 blocks, with a margin).
 BYTES_PER_BLOCK = 4608
 #: Depth to which the curved blocks of a sized domain are checked (each of their curved edges
-#: turns by at most a third of :data:`~blockmesh.decompose.sized.CURVE_TURN`, 10 degrees, so
+#: turns by at most a third of :data:`~blockmesh.decompose.outline.CURVE_TURN`, 10 degrees, so
 #: the curve-aware refinement meets no new fold deeper down; the full check would refine each
 #: to 7,776 cells).
 CURVE_CHECK_LEVELS = 3
@@ -334,49 +330,60 @@ def _outline(
 def size_fits(field: SizeField, geometry: DomainGeometry, max_memory: int | None = None) -> float:
     """The predicted ideal cell count; ResourceError when the blocks would not fit in memory.
 
-    The count is the integral of ``1 / (a h^2)`` over the domain; the decomposition makes about
-    1.5 times that many blocks, each needing about :data:`BYTES_PER_BLOCK` while it is made.
-    The error names the largest size (the field scaled) that fits.
+    The count is the integral of ``1 / (a h^2)`` over the domain
+    (:func:`~blockmesh.sizing.ideal_count`, in at most
+    :data:`~blockmesh.sizing.predict.EVALUATIONS` evaluations of the field whatever the sizes
+    asked); the decomposition makes about 1.5 times that many blocks, each needing about
+    :data:`BYTES_PER_BLOCK` while it is made. A field scaled by ``s`` asks ``1 / s^2`` times the
+    cells, so the error names the largest size that fits: every size asked times
+    ``sqrt(count / cells that fit)``. A field that falls towards 0 somewhere (its smallest size,
+    searched from the smallest sampled, below :data:`~blockmesh.sizing.predict.FLOOR` of the
+    domain's width) is an ArgumentError naming the place.
+
+    A count the budget did not finish is a lower bound: above what fits, it is refused ("at
+    least"); below, it is counted on with a budget of a few evaluations per cell that fits (the
+    mesh about to be made costs far more) and refused as soon as it passes what fits.
     """
     limit = available_memory() if max_memory is None else int(max_memory)
     fits = limit / (BYTES_PER_BLOCK * 1.5)
     polygon = geometry.polygon()
     _check_outline(field, polygon)
-    count = ideal_count(field, polygon, limit=2 * fits)
+    count = ideal_count(field, polygon)
+    least = count.finest_size
+    if count.finest is not None:
+        low_x, low_y, high_x, high_y = polygon.bounds
+        where, least = smallest_size(field, polygon, count.finest)
+        if least < FLOOR * max(high_x - low_x, high_y - low_y):
+            raise ArgumentError(
+                f"{field.label} gets ever smaller near {fmt_point(where)} (down to {least:.3g}, "
+                f"less than {FLOOR:g} of the domain's width): a size must stay above some number "
+                "> 0 everywhere in the domain, or the mesh would need endlessly many cells"
+            )
+    if not count.complete and count.cells <= fits:
+        count = ideal_count(field, polygon, limit=fits, budget=max(EVALUATIONS, int(4 * fits)))
     if count.cells <= fits:
         return count.cells
-    # Too many to count in full: count the field scaled up until it fits the budget, and scale
-    # the count back (by the square of the factor, exact for a field scaled as a whole).
-    first = count
-    factor = 1.0
     cells = count.cells
-    while not count.complete and factor < 1e12:
-        factor *= 4.0
-        count = ideal_count(Scaled(field, factor), polygon, limit=2 * fits)
-        cells = count.cells * factor**2
     scale = math.sqrt(cells / fits)
-    singular = not count.complete or cells < first.cells / 2
-    if not singular:
-        # The size named below must fit: a field whose count does not scale with it (one that
-        # falls towards 0 along a line or at a point) keeps asking for more at any scale.
-        singular = not ideal_count(Scaled(field, scale), polygon, limit=2 * fits).complete
-    if singular:
-        # The count of the field as asked grows without bound (the sizes fall towards 0
-        # somewhere in the domain): no scale fits.
-        where = fmt_point(first.finest) if first.finest is not None else "somewhere"
-        raise ArgumentError(
-            f"{field.label} gets ever smaller near {where} (down to {first.finest_size:.3g} "
-            "and still falling where the count stopped): a size must stay above some number > 0 "
-            "everywhere in the domain, or the mesh would need endlessly many cells"
+    smallest = field.smallest if field.smallest > 0 else min(count.finest_size, least)
+    if count.complete:
+        more, hint = (
+            "",
+            (
+                f"the largest size that fits is about {smallest * scale:.3g} (every size asked "
+                f"{scale:.3g} times larger)"
+            ),
         )
-    more = "" if count.complete else "at least "
-    smallest = field.smallest
-    hint = (
-        f"the largest size that fits is about {smallest * scale:.3g} (every size asked "
-        f"{scale:.3g} times larger)"
-        if smallest > 0
-        else f"sizes about {scale:.3g} times larger fit"
-    )
+    else:
+        more, hint = (
+            "at least ",
+            (
+                f"the largest size that fits is at most {smallest * scale:.3g} (every size asked "
+                f"{scale:.3g} times larger or more)"
+            ),
+        )
+    if field.smallest <= 0:
+        hint += f"; the smallest size asked is about {smallest:.3g}"
     source = "the limit given" if max_memory is not None else "the memory available now"
     raise ResourceError(
         f"the size field asks for {more}{format_count(int(cells))} cells (the integral of "

@@ -52,7 +52,6 @@ __all__ = [
     "InRegion",
     "Minimum",
     "Near",
-    "Scaled",
     "SizeField",
     "as_field",
     "checked_size",
@@ -497,41 +496,6 @@ class Minimum(SizeField):
     def smallest(self) -> float:
         """The smallest of the parts' bounds."""
         return min(f.smallest for f in self.fields)
-
-    def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:  # noqa: ARG002
-        return  # the parts are checked one by one
-
-
-@dataclass(frozen=True, eq=False)
-class Scaled(SizeField):
-    """A field times a factor (what the memory guard tries, to name a size that fits).
-
-    Examples
-    --------
-    >>> Scaled(Constant(0.1), 3.0)(np.zeros((1, 2))).round(12).tolist()
-    [0.3]
-    """
-
-    field: SizeField
-    factor: float
-    label: str = "the scaled size field"
-
-    def values(self, xy: np.ndarray) -> np.ndarray:
-        """The field's sizes times the factor."""
-        return self.field.values(xy) * self.factor
-
-    def parts(self) -> tuple[SizeField, ...]:
-        """The scaled field's parts (their checks do not change with the factor)."""
-        return self.field.parts()
-
-    def seeds(self) -> np.ndarray:
-        """The field's seeds."""
-        return self.field.seeds()
-
-    @property
-    def smallest(self) -> float:
-        """The field's bound times the factor."""
-        return self.field.smallest * self.factor
 
     def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:  # noqa: ARG002
         return  # the parts are checked one by one

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-import pytest
 from helpers import run_cli
 
 from blockmesh.decompose.sized import SIZE_TOLERANCE
@@ -66,7 +65,6 @@ def test_size_table_in_a_domain_file(capsys, tmp_path):
     assert report["sizes"]["worst_ratio"] <= SIZE_TOLERANCE
 
 
-@pytest.mark.slow  # 10-45 s: fields measured over huge counts
 def test_bad_sizes_are_one_located_line(capsys, tmp_path):
     code, _, err = run_cli(capsys, "mesh", "square", "--size", "0")
     assert code != 0 and "--size must be a finite number > 0, got 0" in err
@@ -80,6 +78,8 @@ def test_bad_sizes_are_one_located_line(capsys, tmp_path):
     assert code != 0 and "gradation must be > 1" in err
     code, _, err = run_cli(capsys, "mesh", "square", "--size", "1e-5", "--max-memory", "100M")
     assert code != 0 and "the largest size that fits is about" in err
+    code, _, err = run_cli(capsys, "mesh", "square", "--size", "0.1*abs(x-0.30017)")
+    assert code != 0 and "'0.1*abs(x-0.30017)' gets ever smaller near (0.30017, " in err
     mesh = tmp_path / "square.npz"
     assert run_cli(capsys, "mesh", "square", "--level", "1", "-o", str(mesh))[0] == 0
     code, _, err = run_cli(capsys, "mesh", str(mesh), "--size", "0.1")

@@ -13,9 +13,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import blockmesh
+from blockmesh.domain.sized import _OUTLINE_SAMPLES, BYTES_PER_BLOCK, DomainGeometry, size_fits
 from blockmesh.errors import ArgumentError, ExpressionError, ResourceError, UnknownNameError
 from blockmesh.sizing import (
     PENTAGON_AREA,
+    Callback,
     Constant,
     Expression,
     InRegion,
@@ -26,6 +28,7 @@ from blockmesh.sizing import (
     ideal_count,
     mesh_ideal_count,
 )
+from blockmesh.sizing.predict import _SEARCH_STEPS, EVALUATIONS, RELATIVE_TOLERANCE
 
 RNG = np.random.default_rng(24)
 
@@ -115,17 +118,47 @@ def test_size_zero_on_the_boundary_is_located():
         square.with_size("0.1*y")
 
 
+class Counting:
+    """A size function that counts the points it is asked about."""
+
+    def __init__(self, function) -> None:
+        self.function = function
+        self.points = 0
+
+    def __call__(self, x, y):
+        self.points += len(x)
+        return self.function(x, y)
+
+
+#: Points the guard may evaluate besides the count's budget: the boundary check (1,024 per
+#: width, and the corners) and the search for the smallest size (8 a step).
+GUARD_EXTRA = 4 * _OUTLINE_SAMPLES + 8 * _SEARCH_STEPS
+
+
 def test_size_falling_to_zero_inside_is_refused_not_scaled():
     # Zero along a line that no sample hits: no scale of the field fits, so the guard says
     # where the sizes fall instead of naming a size that would not fit either.
-    from blockmesh.domain.sized import DomainGeometry, size_fits
-
     square = blockmesh.load_domain("square")
     field = Expression("0.1*abs(x - 0.30017)")
     pattern = r"gets ever smaller near \(([^,]+), "
     with pytest.raises(ArgumentError, match=pattern) as info:
         size_fits(field, DomainGeometry(square), 2**20)
-    assert float(re.search(pattern, str(info.value)).group(1)) == pytest.approx(0.30017, abs=0.01)
+    assert float(re.search(pattern, str(info.value)).group(1)) == pytest.approx(0.30017, abs=1e-9)
+    # With any memory at all: the count stops at its budget, and the search finds the line.
+    counting = Counting(lambda x, y: 0.1 * np.abs(x - 0.30017))
+    with pytest.raises(ArgumentError, match=pattern) as info:
+        size_fits(Callback(counting), DomainGeometry(square), 2**50)
+    assert float(re.search(pattern, str(info.value)).group(1)) == pytest.approx(0.30017, abs=1e-9)
+    assert counting.points <= EVALUATIONS + GUARD_EXTRA
+
+
+def test_size_falling_to_zero_at_a_point_is_located():
+    plate = blockmesh.load_domain("plate-hole")
+    pattern = r"gets ever smaller near \(([^,]+), ([^)]+)\)"
+    with pytest.raises(ArgumentError, match=pattern) as info:
+        plate.with_size("0.2*sqrt((x - 1.234567)^2 + (y + 0.7654321)^2)")
+    x, y = (float(v) for v in re.search(pattern, str(info.value)).groups())
+    assert (x, y) == (pytest.approx(1.234567, abs=1e-9), pytest.approx(-0.7654321, abs=1e-9))
 
 
 def test_unknown_patch_and_region_name_the_known_ones():
@@ -165,7 +198,6 @@ def test_gradation_bounds_the_growth_and_never_raises_the_field(inside, outside,
     assert np.all(ha <= field(a) + 1e-15)
 
 
-@pytest.mark.slow  # 10-45 s: fields measured over huge counts
 def test_ideal_count_integrates_one_over_a_h_squared():
     square = shapely.box(0, 0, 2, 1)
     exact = 2 / (PENTAGON_AREA * 0.05**2)
@@ -185,14 +217,55 @@ def test_mesh_ideal_count_agrees_with_the_quadtree():
     assert mesh_ideal_count(field, mesh.points, mesh.cells) == pytest.approx(quadtree, rel=0.02)
 
 
-@pytest.mark.slow  # 10-45 s: fields measured over huge counts
-def test_memory_guard_names_the_largest_size_that_fits():
+@pytest.mark.parametrize("size", [1e-4, 1e-5, 1e-7])
+def test_memory_guard_names_the_largest_size_that_fits(size):
     square = blockmesh.load_domain("square")
     limit = 200 * 2**20
-    with pytest.raises(ResourceError, match=r"largest size that fits is about ([0-9.e-]+)") as info:
-        square.with_size(1e-4, max_memory=limit)
-    fits = float(info.value.args[0].split("fits is about ")[1].split(" ")[0])
-    assert 1e-4 < fits < 1e-2
-    from blockmesh.domain.sized import DomainGeometry, size_fits
+    pattern = r"asks for ([0-9,]+) cells.*largest size that fits is about ([0-9.e-]+)"
+    with pytest.raises(ResourceError, match=pattern) as info:
+        square.with_size(size, max_memory=limit)
+    cells, fits = re.search(pattern, str(info.value)).groups()
+    assert int(cells.replace(",", "")) == pytest.approx(1 / (PENTAGON_AREA * size**2), rel=1e-6)
+    # The same whatever the size asked: the size whose ideal count fits the blocks' budget.
+    assert float(fits) == pytest.approx(
+        (limit / (1.5 * BYTES_PER_BLOCK) * PENTAGON_AREA) ** -0.5, rel=2e-3
+    )
+    size_fits(Constant(float(fits) * 1.01), DomainGeometry(square), limit)  # no error
+    with pytest.raises(ResourceError):
+        size_fits(Constant(float(fits) * 0.99), DomainGeometry(square), limit)
 
-    size_fits(Constant(fits * 1.01), DomainGeometry(square), limit)  # no error
+
+def test_memory_guard_evaluates_the_field_a_bounded_number_of_times():
+    # A field asking for billions of cells is counted in a few thousand evaluations (it varies
+    # little), one asking for millions along a line within the budget, whatever the sizes.
+    square = blockmesh.load_domain("square")
+    for size, most in ((1e-6, 5000), (1e-9, 5000)):
+        counting = Counting(lambda x, y, size=size: size * (1 + x))
+        with pytest.raises(ResourceError, match="largest size that fits is about"):
+            size_fits(Callback(counting), DomainGeometry(square), 2**30)
+        assert counting.points <= most + GUARD_EXTRA
+    counting = Counting(lambda x, y: 1e-6 + 0.2 * y)  # a wall at y = 0 asking for 1e-6
+    with pytest.raises(ResourceError, match="at least"):
+        size_fits(Callback(counting), DomainGeometry(square), 2**30)
+    assert counting.points <= EVALUATIONS + GUARD_EXTRA
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    base=st.floats(0.005, 0.1),
+    slope=st.floats(0.0, 2.0),
+    angle=st.floats(0, 2 * math.pi),
+    scale=st.floats(1e-6, 1e3),
+)
+def test_ideal_count_scales_and_is_a_lower_bound_when_cut_short(base, slope, angle, scale):
+    # The count of h scaled by s is the count over s^2 (the quadrature's choices do not depend
+    # on the scale), and a count cut short by its budget is below the full one (to within the
+    # tolerance: the triangles left are counted by their own rule).
+    text = f"{base} + {slope}*abs({math.cos(angle)}*x + {math.sin(angle)}*y)"
+    plate = shapely.box(-1, -0.5, 1, 0.5)
+    full = ideal_count(Expression(text), plate)
+    scaled = ideal_count(Expression(f"{scale}*({text})"), plate)
+    assert full.complete and scaled.complete
+    assert scaled.cells * scale**2 == pytest.approx(full.cells, rel=1e-9)
+    short = ideal_count(Expression(text), plate, budget=full.evaluations // 2)
+    assert not short.complete and short.cells <= full.cells * (1 + RELATIVE_TOLERANCE)
