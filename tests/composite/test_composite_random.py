@@ -71,7 +71,28 @@ def parts(draw):
     return out
 
 
+#: Two discs overlapping in a lens thinner than this are left to the regression test below: the
+#: lens goes to the wrong region (a known bug, open), and the random runs must stay meaningful for
+#: everything else.
+THIN_LENS = 0.05
+
+
+def _thin_lens(given_parts) -> bool:
+    discs = [
+        (np.asarray(value["circles"][0]["center"], dtype=float), value["circles"][0]["radius"])
+        for value, _ in given_parts.values()
+        if isinstance(value, dict)
+    ]
+    for i, (c1, r1) in enumerate(discs):
+        for c2, r2 in discs[i + 1 :]:
+            if 0 < r1 + r2 - float(np.hypot(*(c1 - c2))) < THIN_LENS:
+                return True
+    return False
+
+
 def check(given_parts, levels) -> None:
+    if _thin_lens(given_parts):
+        reject()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -105,3 +126,21 @@ def test_random_composites_sample(given_parts):
 @given(parts())
 def test_random_composites(given_parts):
     check(given_parts, [0, 1, 2, 3])
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known bug, open: two discs overlapping in a lens 0.0025 wide (found by "
+    "test_random_composites): the lens is meshed as the earlier part's, where the later part "
+    "should win; region areas p0 1.5393804 and p1 1.5392445 instead of the reverse",
+)
+def test_a_thin_lens_between_two_discs_goes_to_the_later_part():
+    square = shapely.box(0, 0, 1.5, 1.5)
+    given = {
+        "base": (square, square),
+        "p0": ({"circles": [{"center": [2.25, 1.0], "radius": 0.7}]}, disc((2.25, 1.0), 0.7)),
+        "p1": ({"circles": [{"center": [2.0, 2.375], "radius": 0.7}]}, disc((2.0, 2.375), 0.7)),
+    }
+    shapes = {name: shape for name, (_, shape) in given.items()}
+    domain = Domain.compose({name: value for name, (value, _) in given.items()})
+    assert_composite(domain.mesh(0), shapes)
