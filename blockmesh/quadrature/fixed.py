@@ -176,21 +176,15 @@ def integrate(
     >>> round(integrate(usp, "1", order=1), 14)  # the area
     6.0
     """
-    if isinstance(target, PolygonMesh):
-        if warn_rtol is None:
-            return _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[
-                0
-            ].sum()
-        return _polygon_estimate(
+    if warn_rtol is not None:
+        return _estimate(
             target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3
         ).value
-    if warn_rtol is None:
-        return total_of(
-            _cell_integrals(target, f, order, level, rule, chunk, max_points, exact_geometry)
-        )
-    return _with_estimate(
-        target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, stacklevel=3
-    ).value
+    if isinstance(target, PolygonMesh):
+        return _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[0].sum()
+    return total_of(
+        _cell_integrals(target, f, order, level, rule, chunk, max_points, exact_geometry)
+    )
 
 
 def integrate_cells(
@@ -265,13 +259,7 @@ def integrate_with_estimate(
     >>> str(caught[0].message).split(":")[0]
     'the integral is not resolved'
     """
-    if isinstance(target, PolygonMesh):
-        return _polygon_estimate(
-            target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3
-        )
-    return _with_estimate(
-        target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, stacklevel=3
-    )
+    return _estimate(target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3)
 
 
 def _polygon_values(
@@ -311,36 +299,25 @@ def _polygon_estimate(
     values, found, n, points = _polygon_values(
         mesh, f, order, level, rule, max_points, exact_geometry, check_chunk(chunk)
     )
-    check = n + 1 if n + 1 <= found.max_order else n - 1
+    check = _check_order(found, n)
     other = _polygon_values(mesh, f, check, level, found, max_points, exact_geometry)[0]
     per_cell = _SAFETY * np.abs(values - other)
-    value = scaled_sum(values)
-    estimate = scaled_sum(per_cell)
-    scale = scaled_sum(np.abs(values))
-    limit = scaled_sum(np.abs(values), warn_level + _ROUNDOFF)
-    worst = int(np.argmax(per_cell)) if mesh.n_cells and np.any(per_cell > 0) else None
-    converged = estimate <= limit
-    how = f"twice the difference to order {check}, cell by cell"
-    message = f"error estimate {estimate:.3g} {how}"
-    if not converged:
-        message = _not_resolved(mesh, worst, value, estimate, scale, warn_level, how)
-        warnings.warn(BlockMeshWarning(message), stacklevel=stacklevel)
-    return IntegrationResult(
-        value,
-        estimate,
-        n,
-        mesh.level,
-        found.name,
-        mesh.n_cells,
+    return _result(
+        mesh,
+        found,
         2 * points,
-        converged,
-        message,
-        ((mesh.level, n, value), (mesh.level, check, scaled_sum(other))),
-        worst,
+        ((mesh.level, n, scaled_sum(values)), (mesh.level, check, scaled_sum(other))),
+        per_cell,
+        estimate=scaled_sum(per_cell),
+        scale=scaled_sum(np.abs(values)),
+        limit=scaled_sum(np.abs(values), warn_level + _ROUNDOFF),
+        warn_rtol=warn_level,
+        how=f"twice the difference to order {check}, cell by cell",
+        stacklevel=stacklevel + 1,
     )
 
 
-def _with_estimate(
+def _estimate(
     target: object,
     f: object,
     order: object,
@@ -350,9 +327,12 @@ def _with_estimate(
     max_points: object,
     warn_rtol: object,
     exact_geometry: object,
-    *,
     stacklevel: int,
 ) -> IntegrationResult:
+    """:func:`integrate_with_estimate` on any target; ``stacklevel`` as seen from here."""
+    if isinstance(target, PolygonMesh):
+        arguments = (f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry)
+        return _polygon_estimate(target, *arguments, stacklevel + 1)
     function, found, n, plan, points = _prepare(target, f, order, level, rule, max_points)
     chunk = check_chunk(chunk)
     warn_level = check_nonnegative(warn_rtol, "warn_rtol")
@@ -372,7 +352,7 @@ def _with_estimate(
     estimate = scaled_sum(per_cell) if screen.complete else math.inf
     how = "from the highest resolved polynomial modes of f on each sector"
     if not estimate <= limit:
-        check = n + 1 if n + 1 <= found.max_order else n - 1
+        check = _check_order(found, n)
         extra = plan.cells * found.info(check).points_per_cell if check >= 1 else None
         if extra is not None and points + extra <= budget:
             other = exact_sums(
@@ -385,17 +365,57 @@ def _with_estimate(
             how = f"twice the difference to order {check}, cell by cell"
         else:
             how += f" (order {check} not tried: it would pass max_points={budget:,})"
+    return _result(
+        mesh,
+        found,
+        points,
+        history,
+        per_cell,
+        estimate=estimate,
+        scale=scale,
+        limit=limit,
+        warn_rtol=warn_level,
+        how=how,
+        stacklevel=stacklevel + 1,
+    )
+
+
+def _check_order(found: Rule, n: int) -> int:
+    """The order the estimate compares order ``n`` with: one higher, or one lower at the top."""
+    return n + 1 if n + 1 <= found.max_order else n - 1
+
+
+def _result(
+    mesh: Mesh | PolygonMesh,
+    found: Rule,
+    points: int,
+    history: tuple[tuple[int, int, float], ...],
+    per_cell: np.ndarray,
+    *,
+    estimate: float,
+    scale: float,
+    limit: float,
+    warn_rtol: float,
+    how: str,
+    stacklevel: int,
+) -> IntegrationResult:
+    """The result of the first pass in ``history``; warns when ``estimate`` is above ``limit``.
+
+    ``per_cell`` is the estimate cell by cell (the largest names the cell in the message),
+    ``how`` says how it was made; ``stacklevel`` as seen from here.
+    """
+    level, n, value = history[0]
     worst = int(np.argmax(per_cell)) if mesh.n_cells and np.any(per_cell > 0) else None
     converged = estimate <= limit
     message = f"error estimate {estimate:.3g} {how}"
     if not converged:
-        message = _not_resolved(mesh, worst, value, estimate, scale, warn_level, how)
+        message = _not_resolved(mesh, worst, value, estimate, scale, warn_rtol, how)
         warnings.warn(BlockMeshWarning(message), stacklevel=stacklevel)
     return IntegrationResult(
         value,
         estimate,
         n,
-        plan.level,
+        level,
         found.name,
         mesh.n_cells,
         points,
