@@ -7,7 +7,7 @@ the name and the curves, :func:`check_label_lengths` the patch and interface ent
 their edges, :func:`check_finite` the points, and :func:`trusted` builds a mesh from arrays
 consistent by construction without the constructor's full checks. ``kind`` names the class in
 the messages (``"Mesh"``, ``"PolygonMesh"``). :func:`shared_values` gives the fields both kinds
-have, which a conversion carries over.
+have, which a conversion carries over; :func:`own_blocks` the labels of cells given bare.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ __all__ = [
     "check_range",
     "freeze_labels",
     "frozen",
+    "own_blocks",
     "read_only",
     "shared_values",
     "trusted",
@@ -64,6 +65,23 @@ SHARED_FIELDS = (
 def shared_values(mesh: Any) -> dict[str, Any]:
     """The :data:`SHARED_FIELDS` of ``mesh`` by name (what a conversion carries over as it is)."""
     return {name: getattr(mesh, name) for name in SHARED_FIELDS}
+
+
+def own_blocks(m: int) -> dict[str, Any]:
+    """The labels of ``m`` cells given bare: each its own block, no parent, one region ``domain``.
+
+    Examples
+    --------
+    >>> labels = own_blocks(3)
+    >>> labels["block_id"].tolist(), labels["parent"].tolist(), labels["region_names"]
+    ([0, 1, 2], [-1, -1, -1], ('domain',))
+    """
+    return {
+        "block_id": np.arange(m, dtype=np.int64),
+        "parent": np.full(m, -1, dtype=np.int64),
+        "region": np.zeros(m, dtype=np.int64),
+        "region_names": ("domain",),
+    }
 
 
 def trusted(cls: type[T], values: dict[str, Any]) -> T:

@@ -36,6 +36,7 @@ from blockmesh.mesh.arrays import (
     check_range,
     freeze_labels,
     frozen,
+    own_blocks,
     trusted,
 )
 from blockmesh.mesh.labels import interface_summary
@@ -216,19 +217,15 @@ class Mesh:
         points = np.asarray(points, dtype=np.float64)
         cells = np.asarray(cells, dtype=np.int64).reshape(-1, 5)
         boundary = boundary_of_cells(cells, points.shape[0])
-        n = cells.shape[0]
         return cls(
             points=points,
             cells=cells,
-            block_id=np.arange(n),
-            parent=np.full(n, -1),
             boundary_edges=boundary,
             boundary_patch=np.zeros(boundary.shape[0], dtype=np.int64),
             patch_names=("boundary",),
-            region=np.zeros(n, dtype=np.int64),
-            region_names=("domain",),
             level=level,
             name=name,
+            **own_blocks(cells.shape[0]),
         )
 
     # ----------------------------------------------------------------- sizes

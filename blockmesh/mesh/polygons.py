@@ -58,7 +58,14 @@ from blockmesh.errors import ArgumentTypeError, DomainError
 from blockmesh.geometry.topology import PolygonCells, unique_edges
 from blockmesh.mesh import labels, numbering
 from blockmesh.mesh import polygon_geometry as geometry
-from blockmesh.mesh.arrays import NO_EDGES, NO_IDS, check_finite, shared_values, trusted
+from blockmesh.mesh.arrays import (
+    NO_EDGES,
+    NO_IDS,
+    check_finite,
+    own_blocks,
+    shared_values,
+    trusted,
+)
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygon_build import polygon_layout
 from blockmesh.mesh.polygon_checks import (
@@ -287,16 +294,13 @@ class PolygonMesh:
             points=xy,
             offsets=rows.offsets,
             nodes=rows.nodes,
-            block_id=np.arange(m, dtype=np.int64),
-            parent=np.full(m, -1, dtype=np.int64),
             boundary_edges=edges,
             boundary_patch=patch,
             patch_names=names,
-            region=np.zeros(m, dtype=np.int64),
-            region_names=("domain",),
             cell_level=np.full(m, level, dtype=np.int64),
             level=level,
             name=name,
+            **own_blocks(m),
         )
 
     # ----------------------------------------------------------------- sizes
