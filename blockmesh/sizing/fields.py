@@ -41,7 +41,13 @@ from typing import Any
 
 import numpy as np
 
-from blockmesh.errors import ArgumentError, ArgumentTypeError, ExpressionError, fmt_point
+from blockmesh.errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    BlockMeshError,
+    ExpressionError,
+    fmt_point,
+)
 from blockmesh.numerics.expr import parse_expression
 
 __all__ = [
@@ -161,6 +167,19 @@ must be a finite number > 0 everywhere in the domain
     return sizes
 
 
+def _check_finite_sizes(
+    label: str, xy: np.ndarray, sizes: np.ndarray, error: type[BlockMeshError]
+) -> None:
+    """Raise ``error`` at the first point where a user's function gives no finite size > 0."""
+    bad = ~(np.isfinite(sizes) & (sizes > 0))
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise error(
+            f"{label} gives {float(sizes[k])!r} at {fmt_point(xy[k])}; a size must be a "
+            "finite number > 0 everywhere in the domain"
+        )
+
+
 # ---------------------------------------------------------------------------- kinds
 @dataclass(frozen=True)
 class Constant(SizeField):
@@ -219,13 +238,7 @@ class Expression(SizeField):
             return np.asarray(self._function(xy[:, 0], xy[:, 1]), dtype=np.float64)
 
     def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:
-        bad = ~(np.isfinite(sizes) & (sizes > 0))
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise ExpressionError(
-                f"{self.label} gives {float(sizes[k])!r} at {fmt_point(xy[k])}; a size must be a "
-                "finite number > 0 everywhere in the domain"
-            )
+        _check_finite_sizes(self.label, xy, sizes, ExpressionError)
 
 
 @dataclass(frozen=True, eq=False)
@@ -262,13 +275,7 @@ class Callback(SizeField):
             ) from None
 
     def _check(self, xy: np.ndarray, sizes: np.ndarray) -> None:
-        bad = ~(np.isfinite(sizes) & (sizes > 0))
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise ArgumentError(
-                f"{self.label} gives {float(sizes[k])!r} at {fmt_point(xy[k])}; a size must be a "
-                "finite number > 0 everywhere in the domain"
-            )
+        _check_finite_sizes(self.label, xy, sizes, ArgumentError)
 
 
 @dataclass(frozen=True, eq=False)
