@@ -17,6 +17,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from blockmesh.checks import key_list, unknown_keys
 from blockmesh.domain.tomlio.bounds import check_limits, read_text_bounded
 from blockmesh.domain.tomlio.tables import (
     curved_edges_table,
@@ -81,12 +82,10 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
         raise DomainFormatError(f"{source}: malformed TOML: {error}") from None
     except (ValueError, RecursionError, MemoryError) as error:
         raise DomainFormatError(f"{source}: the TOML reader gave up: {error}") from None
-    unknown = sorted(set(raw) - set(ALLOWED_KEYS))
+    unknown = unknown_keys(raw, ALLOWED_KEYS)
     if unknown:
-        allowed = "; ".join(f"{k} ({v})" for k, v in ALLOWED_KEYS.items())
         raise DomainFormatError(
-            f"{source}: unknown key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(map(repr, unknown))}; the keys are: {allowed}"
+            f"{source}: unknown {unknown}; the keys are: {key_list(ALLOWED_KEYS)}"
         )
     for key in ("name", "description"):
         if key in raw and not isinstance(raw[key], str):
