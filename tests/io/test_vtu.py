@@ -119,7 +119,7 @@ def test_blockmesh_files_are_streamed(
             compression=None if compression == "none" else compression,
             header_type=header,
         )
-        vtu._insert_field_data(raw, path, vtu.field_data(mesh))
+        vtu.insert_field_data(raw, path, vtu.field_data(mesh))
     parts = vtu_stream.read_stream(path)
     assert parts is not None
     np.testing.assert_array_equal(parts.points, mesh.points)
