@@ -1,4 +1,4 @@
-"""Argument checks shared by every stage: whole numbers, choices, read-only arrays.
+"""Argument checks shared by every stage: whole numbers, choices, table keys, read-only arrays.
 
 Each check raises :class:`~blockmesh.errors.ArgumentError` (a ``ValueError``) or
 :class:`~blockmesh.errors.ArgumentTypeError` (a ``TypeError``) with the argument's name, what it
@@ -25,14 +25,14 @@ import functools
 import inspect
 import numbers
 import warnings
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any, TypeVar
 
 import numpy as np
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["choice", "readonly", "renamed_keywords", "whole_number"]
+__all__ = ["choice", "key_list", "readonly", "renamed_keywords", "unknown_keys", "whole_number"]
 
 T = TypeVar("T")
 
@@ -82,6 +82,37 @@ def choice(value: T, choices: Iterable[T], name: str) -> T:
         listed = ", ".join(str(c) for c in options)
         raise ArgumentError(f"unknown {name} {value!r}; choose one of: {listed}")
     return value
+
+
+def unknown_keys(table: Iterable[Any], allowed: Iterable[Any]) -> str:
+    """The keys of ``table`` that ``allowed`` lacks, as a message names them; ``""`` if none.
+
+    One unknown key reads ``key 'x'``, several ``keys 'a', 'b'`` (sorted): the words that follow
+    "unknown" in the message of the caller, which says where the table is and what it takes
+    (often with :func:`key_list`).
+
+    Examples
+    --------
+    >>> unknown_keys({"size": 1, "sise": 2, "colour": 3}, ("size", "growth"))
+    "keys 'colour', 'sise'"
+    >>> unknown_keys({"size": 1}, ("size", "growth"))
+    ''
+    """
+    unknown = sorted(set(table) - set(allowed))
+    if not unknown:
+        return ""
+    return f"key{'s' if len(unknown) > 1 else ''} {', '.join(map(repr, unknown))}"
+
+
+def key_list(allowed: Mapping[str, str]) -> str:
+    """The keys a table takes with what each one is, for a message: ``name (text); ...``.
+
+    Examples
+    --------
+    >>> key_list({"size": "a number", "growth": "a ratio > 1"})
+    'size (a number); growth (a ratio > 1)'
+    """
+    return "; ".join(f"{name} ({text})" for name, text in allowed.items())
 
 
 def readonly(values: Any, dtype: Any = None) -> np.ndarray:

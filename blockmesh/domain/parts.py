@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
+from blockmesh.checks import key_list, unknown_keys
 from blockmesh.curves.types import Arc
 from blockmesh.domain.curved_polygons import _circle_fields, _edge_key
 from blockmesh.domain.polygon_edges import facing_resolved, hole_list, ring_edge_patches
@@ -152,12 +153,10 @@ def part_from_table(table: object, k: int, source: str = "") -> Part:
             f"{where}parts entry {k} must be a table (region = ..., polygon = ... or circles = "
             f"...), got {toml_type(table)}"
         )
-    unknown = sorted(set(table) - set(PART_KEYS))
+    unknown = unknown_keys(table, PART_KEYS)
     if unknown:
-        keys = "; ".join(f"{name} ({text})" for name, text in PART_KEYS.items())
         raise DomainFormatError(
-            f"{where}parts entry {k} has the unknown key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(map(repr, unknown))}; a part takes: {keys}"
+            f"{where}parts entry {k} has the unknown {unknown}; a part takes: {key_list(PART_KEYS)}"
         )
     if "region" not in table:
         raise DomainFormatError(f'{where}parts entry {k} needs region = "name"')

@@ -13,6 +13,7 @@ Examples
 from __future__ import annotations
 
 import json
+import shutil
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -43,6 +44,7 @@ __all__ = [
     "line_arrays",
     "mesh_from_arrays",
     "name_lookup",
+    "splice_after",
     "split_lines",
 ]
 
@@ -300,6 +302,34 @@ def line_arrays(mesh: Mesh | PolygonMesh) -> tuple[np.ndarray, np.ndarray, np.nd
     patch = np.concatenate([mesh.boundary_patch, np.full(ei, -1, np.int64)])
     interface = np.concatenate([np.full(eb, -1, np.int64), mesh.interface_patch])
     return edges, patch, interface
+
+
+def splice_after(
+    src: Path, dst: Path, marker: bytes, block: bytes, *, head: int, missing: str
+) -> None:
+    """Copy ``src`` to ``dst`` with ``block`` right after ``marker``, found in its first bytes.
+
+    For the files meshio writes, which have no place for blockmesh's field data: the first
+    ``head`` bytes of ``src`` must hold ``marker`` (else ExportError with the message
+    ``missing``); the rest is copied as it is, in chunks. O(size of ``src``); memory O(``head``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "a").write_bytes(b"<Grid><Piece/></Grid>")
+    >>> splice_after(folder / "a", folder / "b", b"<Grid>", b"<Data/>", head=64, missing="no grid")
+    >>> (folder / "b").read_bytes()
+    b'<Grid><Data/><Piece/></Grid>'
+    """
+    with open(src, "rb") as fin, open(dst, "wb") as fout:
+        start = fin.read(head)
+        at = start.find(marker)
+        if at < 0:
+            raise ExportError(missing)
+        at += len(marker)
+        fout.write(start[:at] + block + start[at:])
+        shutil.copyfileobj(fin, fout, 1 << 22)
 
 
 def split_lines(

@@ -48,6 +48,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from blockmesh.checks import key_list, unknown_keys
 from blockmesh.errors import ArgumentError, ArgumentTypeError, ExpressionError, UnknownNameError
 from blockmesh.sizing.fields import (
     Callback,
@@ -269,12 +270,9 @@ def _near(table: object, what: str) -> NearSpec:
         raise ArgumentTypeError(
             f"{what} must be a table (patch or point, size, growth or distance), got {table!r}"
         )
-    unknown = sorted(set(table) - set(NEAR_KEYS))
+    unknown = unknown_keys(table, NEAR_KEYS)
     if unknown:
-        raise ArgumentError(
-            f"{what} has unknown key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(map(repr, unknown))}; the keys are {', '.join(NEAR_KEYS)}"
-        )
+        raise ArgumentError(f"{what} has unknown {unknown}; the keys are {', '.join(NEAR_KEYS)}")
     patches: list[str] = []
     if "patch" in table:
         patches.append(table["patch"])
@@ -328,13 +326,9 @@ def _near(table: object, what: str) -> NearSpec:
 
 
 def _table(raw: Mapping[str, Any], source: str) -> SizeSpec:
-    unknown = sorted(set(raw) - set(SIZE_KEYS))
+    unknown = unknown_keys(raw, SIZE_KEYS)
     if unknown:
-        keys = "; ".join(f"{k} ({v})" for k, v in SIZE_KEYS.items())
-        raise ArgumentError(
-            f"{source} has unknown key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(map(repr, unknown))}; the keys are: {keys}"
-        )
+        raise ArgumentError(f"{source} has unknown {unknown}; the keys are: {key_list(SIZE_KEYS)}")
     default = raw.get("default")
     if default is not None:
         default = _number_or_expression(default, f"{source} default")

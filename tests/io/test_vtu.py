@@ -119,7 +119,7 @@ def test_blockmesh_files_are_streamed(
             compression=None if compression == "none" else compression,
             header_type=header,
         )
-        vtu._insert_field_data(raw, path, vtu.field_data(mesh))
+        vtu.insert_field_data(raw, path, vtu.field_data(mesh))
     parts = vtu_stream.read_stream(path)
     assert parts is not None
     np.testing.assert_array_equal(parts.points, mesh.points)
@@ -164,3 +164,20 @@ def test_other_files_fall_back_to_meshio(mesh: Mesh, tmp_path: Path) -> None:
         vtu_stream.read_stream(path)
     with pytest.raises(ExportError, match=r"m.vtu: the DataArray 'connectivity' in <Cells>"):
         bio.read(path)
+
+
+def test_field_data_goes_in_after_the_grid_tag(mesh: Mesh, tmp_path: Path) -> None:
+    """The field data block lands right after <UnstructuredGrid>, the rest of the file as it was;
+    a file without that tag in its head is refused, naming it."""
+    raw = tmp_path / "raw.vtu"
+    raw.write_bytes(b"<VTKFile>\n<UnstructuredGrid>\n<Piece/>\n</UnstructuredGrid>\n</VTKFile>\n")
+    out = tmp_path / "out.vtu"
+    vtu.insert_field_data(raw, out, vtu.field_data(mesh))
+    text = out.read_bytes()
+    head, _, rest = text.partition(b"<UnstructuredGrid>\n<FieldData>")
+    assert head == b"<VTKFile>\n"
+    assert rest.split(b"</FieldData>\n", 1)[1] == b"\n<Piece/>\n</UnstructuredGrid>\n</VTKFile>\n"
+    assert rest.count(b"<DataArray") == len(vtu.field_data(mesh))
+    raw.write_bytes(b"<VTKFile>\n<PolyData/>\n</VTKFile>\n")
+    with pytest.raises(ExportError, match=r"raw\.vtu: no <UnstructuredGrid>"):
+        vtu.insert_field_data(raw, out, vtu.field_data(mesh))

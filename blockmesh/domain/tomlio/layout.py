@@ -15,8 +15,10 @@ from __future__ import annotations
 
 import tomllib
 from pathlib import Path
+from types import UnionType
 from typing import Any
 
+from blockmesh.checks import key_list, unknown_keys
 from blockmesh.domain.tomlio.bounds import check_limits, read_text_bounded
 from blockmesh.domain.tomlio.tables import (
     curved_edges_table,
@@ -57,6 +59,30 @@ ALLOWED_KEYS = {
     "regions, [[size.near]], expression, gradation); the blocks are cut to it",
 }
 
+#: The type a top-level key must have, and how a message names it.
+_KEY_TYPES: dict[str, tuple[type | UnionType, str]] = {
+    "name": (str, "a string"),
+    "description": (str, "a string"),
+    **{
+        key: (list, f"a list ({ALLOWED_KEYS[key]})")
+        for key in ("polygon", "holes", "vertices", "blocks", "boundary_source", "block_source")
+    },
+    "size": (dict | str | int | float, "a number, an expression or a [size] table"),
+}
+
+#: The keys that belong to explicit blocks, and what a domain given as a polygon is told instead.
+_BLOCKS_ONLY = {
+    **{
+        key: f"{key!r} belongs to explicit blocks (blockmesh writes it with them)"
+        for key in ("boundary_source", "block_source", "components")
+    },
+    "regions": "'regions' needs explicit blocks; a polygon is decomposed automatically",
+    "interfaces": "'interfaces' belong to [[parts]] (renaming the interfaces between regions) or "
+    "to explicit blocks (listing their edges), not to one polygon",
+    "edges": "'edges' needs explicit blocks (vertices and blocks), not a polygon",
+    "grading": "'grading' grades edges of explicit blocks (vertices and blocks), not a polygon's",
+}
+
 
 def read_domain_file(path: str | Path) -> dict[str, Any]:
     """Read and check the layout of a domain file (types of the top-level keys).
@@ -81,29 +107,16 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
         raise DomainFormatError(f"{source}: malformed TOML: {error}") from None
     except (ValueError, RecursionError, MemoryError) as error:
         raise DomainFormatError(f"{source}: the TOML reader gave up: {error}") from None
-    unknown = sorted(set(raw) - set(ALLOWED_KEYS))
+    unknown = unknown_keys(raw, ALLOWED_KEYS)
     if unknown:
-        allowed = "; ".join(f"{k} ({v})" for k, v in ALLOWED_KEYS.items())
         raise DomainFormatError(
-            f"{source}: unknown key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(map(repr, unknown))}; the keys are: {allowed}"
+            f"{source}: unknown {unknown}; the keys are: {key_list(ALLOWED_KEYS)}"
         )
-    for key in ("name", "description"):
-        if key in raw and not isinstance(raw[key], str):
+    for key, (kind, wanted) in _KEY_TYPES.items():
+        if key in raw and not isinstance(raw[key], kind):
             raise DomainFormatError(
-                f"{source}: key {key!r} must be a string, got {toml_type(raw[key])}"
+                f"{source}: key {key!r} must be {wanted}, got {toml_type(raw[key])}"
             )
-    for key in ("polygon", "holes", "vertices", "blocks", "boundary_source", "block_source"):
-        if key in raw and not isinstance(raw[key], list):
-            raise DomainFormatError(
-                f"{source}: key {key!r} must be a list ({ALLOWED_KEYS[key]}), got "
-                f"{toml_type(raw[key])}"
-            )
-    if "size" in raw and not isinstance(raw["size"], dict | str | int | float):
-        raise DomainFormatError(
-            f"{source}: key 'size' must be a number, an expression or a [size] table, got "
-            f"{toml_type(raw['size'])}"
-        )
     for key in ("patches", "regions"):
         if key in raw and not isinstance(raw[key], dict):
             raise DomainFormatError(
@@ -140,36 +153,18 @@ def parse_domain_text(text: str, *, source: str) -> dict[str, Any]:
     if has_blocks and ("vertices" not in raw or "blocks" not in raw):
         missing = "vertices" if "vertices" not in raw else "blocks"
         raise DomainFormatError(f"{source}: key {missing!r} is missing (blocks need both)")
-    if "holes" in raw and not has_polygon:
+    # From here on the domain is either a polygon or explicit blocks.
+    if has_polygon:
+        for key, message in _BLOCKS_ONLY.items():
+            if key in raw:
+                raise DomainFormatError(f"{source}: {message}")
+    elif "holes" in raw:
         raise DomainFormatError(
             f"{source}: 'holes' belong to a 'polygon'; with explicit blocks, leave the holes' "
             "area without blocks"
         )
-    for key in ("boundary_source", "block_source", "components"):
-        if key in raw and not has_blocks:
-            raise DomainFormatError(
-                f"{source}: {key!r} belongs to explicit blocks (blockmesh writes it with them)"
-            )
-    if has_polygon and "regions" in raw:
-        raise DomainFormatError(
-            f"{source}: 'regions' needs explicit blocks; a polygon is decomposed automatically"
-        )
-    if "interfaces" in raw and not has_blocks:
-        raise DomainFormatError(
-            f"{source}: 'interfaces' belong to [[parts]] (renaming the interfaces between "
-            "regions) or to explicit blocks (listing their edges), not to one polygon"
-        )
     if "interfaces" in raw:
         _check_table(raw["interfaces"], "interfaces", source, list, "a list of edges [a, b]")
-    if has_polygon and "edges" in raw:
-        raise DomainFormatError(
-            f"{source}: 'edges' needs explicit blocks (vertices and blocks), not a polygon"
-        )
-    if "grading" in raw and not has_blocks:
-        raise DomainFormatError(
-            f"{source}: 'grading' grades edges of explicit blocks (vertices and blocks), not a "
-            "polygon's"
-        )
     if "grading" in raw:
         raw["grading"] = grading_table(raw["grading"], source)
     if "edges" in raw:

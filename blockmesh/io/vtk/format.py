@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import os
 import re
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -45,7 +44,7 @@ import numpy as np
 from blockmesh._system.atomic import atomic_file, scratch_file
 from blockmesh._system.bounded import open_regular
 from blockmesh.errors import ExportError
-from blockmesh.io.common import Format, decode_metadata, mesh_from_arrays
+from blockmesh.io.common import Format, decode_metadata, mesh_from_arrays, splice_after
 from blockmesh.io.polygons import is_polygon_file
 from blockmesh.io.vtk.stream import read_stream
 from blockmesh.io.vtu.format import (
@@ -98,14 +97,9 @@ def write_vtk(mesh: Mesh | PolygonMesh, path: Path) -> Path:
 
     with atomic_file(path) as final, scratch_file(path) as raw:
         meshio.vtk.write(str(raw), meshio_mesh(mesh), binary=True)
-        with open(raw, "rb") as fin, open(final, "wb") as fout:
-            head = fin.read(1 << 12)
-            at = head.find(_DATASET)
-            if at < 0:
-                raise ExportError(f"unexpected legacy VTK layout from meshio in {raw}")
-            at += len(_DATASET)
-            fout.write(head[:at] + _field_block(field_data(mesh, curves=False)) + head[at:])
-            shutil.copyfileobj(fin, fout, 1 << 22)
+        block = _field_block(field_data(mesh, curves=False))
+        missing = f"unexpected legacy VTK layout from meshio in {raw}"
+        splice_after(raw, final, _DATASET, block, head=1 << 12, missing=missing)
     return Path(path).absolute()
 
 

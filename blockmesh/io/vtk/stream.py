@@ -31,17 +31,15 @@ Examples
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
-from dataclasses import dataclass
 from io import BufferedReader
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from blockmesh._system.bounded import ReadGuard, open_regular, reading
-from blockmesh.errors import ExportError
+from blockmesh._system.bounded import ReadGuard
+from blockmesh.io.streams import DamagedError, NotOursError, Place, read_own_layout
 
 __all__ = ["read_stream"]
 
@@ -49,19 +47,11 @@ _ROWS = 1 << 18  # rows read at a time for the points, offsets and types
 _POLYGON, _LINE = 7, 3  # VTK cell types
 
 
-class _NotOursError(Exception):
-    """The file is not one this reader handles; meshio reads it instead."""
-
-
-class _DamagedError(Exception):
-    """The file is blockmesh's layout, damaged."""
-
-
 def _room(f: BufferedReader, size: int, nbytes: int, what: str, guard: ReadGuard) -> None:
-    """_DamagedError unless ``nbytes`` of ``what`` fit in the rest of the file; then allocate."""
+    """DamagedError unless ``nbytes`` of ``what`` fit in the rest of the file; then allocate."""
     left = size - f.tell()
     if nbytes < 0 or nbytes > left:
-        raise _DamagedError(
+        raise DamagedError(
             f"{what} take {nbytes:,} bytes, but only {left:,} bytes of the file are left "
             "(damaged or truncated)"
         )
@@ -72,7 +62,7 @@ def _words(f: BufferedReader, *expected: bytes) -> list[bytes]:
     """The next line's words, whose first ones must be ``expected``."""
     words = f.readline(1 << 12).split()
     if words[: len(expected)] != list(expected):
-        raise _NotOursError(f"expected {expected!r}, got {words[:4]!r}")
+        raise NotOursError(f"expected {expected!r}, got {words[:4]!r}")
     return words
 
 
@@ -80,7 +70,7 @@ def _into(f: BufferedReader, out: np.ndarray) -> None:
     """Fill ``out`` (native int64 or float64) from the big-endian bytes that follow."""
     view = out.reshape(-1).view(np.uint8).data  # out itself, as bytes
     if f.readinto(view) != view.nbytes:
-        raise _DamagedError("the file ends inside an array")
+        raise DamagedError("the file ends inside an array")
     out.byteswap(inplace=True)
 
 
@@ -92,25 +82,18 @@ def _chunks(
         n = min(_ROWS, count - start)
         raw = f.read(n * np.dtype(dtype).itemsize)
         if len(raw) != n * np.dtype(dtype).itemsize:
-            raise _DamagedError("the file ends inside an array")
+            raise DamagedError("the file ends inside an array")
         put(start, np.frombuffer(raw, dtype))
 
 
 def _end_of_array(f: BufferedReader) -> None:
     if f.read(1) != b"\n":
-        raise _DamagedError("an array of another length than announced")
+        raise DamagedError("an array of another length than announced")
 
 
-@dataclass
-class _Place:
-    """The section being read, for messages."""
-
-    where: str = "the header"
-
-
-def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]:
+def _parse(f: Any, size: int, guard: ReadGuard, place: Place) -> dict[str, Any]:
     if not f.readline(64).startswith(b"# vtk DataFile Version 5.1"):
-        raise _NotOursError("not version 5.1")
+        raise NotOursError("not version 5.1")
     f.readline(1 << 12)  # the title
     _words(f, b"BINARY")
     _words(f, b"DATASET", b"UNSTRUCTURED_GRID")
@@ -119,12 +102,12 @@ def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]
         _, comps, tuples, _kind = _words(f)
         skip = int(comps) * int(tuples) * 8 + 1
         if skip < 1 or f.tell() + skip > size:
-            raise _DamagedError("the dataset's field data runs past the end of the file")
+            raise DamagedError("the dataset's field data runs past the end of the file")
         f.seek(skip, 1)
     place.where = "POINTS"
     _, count, kind = _words(f, b"POINTS")
     if kind != b"double":
-        raise _NotOursError("points that are not doubles")
+        raise NotOursError("points that are not doubles")
     n = int(count)
     _room(f, size, 24 * n, f"{n:,} points", guard)
     points = np.empty((n, 2))
@@ -133,7 +116,7 @@ def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]
         k = min(_ROWS, n - start)
         raw = f.read(24 * k)
         if len(raw) != 24 * k:
-            raise _DamagedError("the file ends inside the points")
+            raise DamagedError("the file ends inside the points")
         points[start : start + k] = np.frombuffer(raw, ">f8").reshape(k, 3)[:, :2]
     _end_of_array(f)
     place.where = "CELLS"
@@ -141,14 +124,14 @@ def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]
     total, length = int(words[1]) - 1, int(words[2])
     m, rem = divmod(length - 2 * total, 3)  # 5 m + 2 (total - m) == length
     if rem or not 0 < m <= total:
-        raise _NotOursError("cells other than pentagons and lines")
+        raise NotOursError("cells other than pentagons and lines")
     eb = total - m
     _room(f, size, 8 * (total + 1 + length), f"{total:,} cells of {length:,} node ids", guard)
 
     def offsets(start: int, values: np.ndarray) -> None:
         k = np.arange(start, start + values.size)
         if not np.array_equal(values, np.where(k <= m, 5 * k, 5 * m + 2 * (k - m))):
-            raise _DamagedError("offsets that are not those of pentagons followed by lines")
+            raise DamagedError("offsets that are not those of pentagons followed by lines")
 
     place.where = "OFFSETS"
     _words(f, b"OFFSETS", b"vtktypeint64")
@@ -164,22 +147,22 @@ def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]
     def types(start: int, values: np.ndarray) -> None:
         k = np.arange(start, start + values.size)
         if not np.array_equal(values, np.where(k < m, _POLYGON, _LINE)):
-            raise _DamagedError("cell types that are not pentagons followed by lines")
+            raise DamagedError("cell types that are not pentagons followed by lines")
 
     place.where = "CELL_TYPES"
     if int(_words(f, b"CELL_TYPES")[1]) != total:
-        raise _DamagedError(f"a count other than the {total:,} cells")
+        raise DamagedError(f"a count other than the {total:,} cells")
     _chunks(f, total, ">i4", types)
     _end_of_array(f)
     place.where = "CELL_DATA"
     if int(_words(f, b"CELL_DATA")[1]) != total:
-        raise _DamagedError(f"a count other than the {total:,} cells")
+        raise DamagedError(f"a count other than the {total:,} cells")
     cell_data: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for _ in range(int(_words(f, b"FIELD", b"FieldData")[2])):
         name, comps, tuples, kind = _words(f)
         place.where = f"the cell data {name.decode(errors='replace')!r}"
         if comps != b"1" or int(tuples) != total or kind != b"vtktypeint64":
-            raise _NotOursError("cell data of another kind")
+            raise NotOursError("cell data of another kind")
         _room(f, size, 8 * total, "the cell data", guard)
         on = (np.empty(m, np.int64), np.empty(eb, np.int64))
         _into(f, on[0])
@@ -187,7 +170,7 @@ def _parse(f: Any, size: int, guard: ReadGuard, place: _Place) -> dict[str, Any]
         _end_of_array(f)
         cell_data[name.decode("ascii")] = on
     if f.read(1).strip():
-        raise _NotOursError("more after the cell data")
+        raise NotOursError("more after the cell data")
     return {"points": points, "cells": cells, "edges": edges, "cell_data": cell_data}
 
 
@@ -198,13 +181,7 @@ def read_stream(path: Path) -> dict[str, Any] | None:
     ``cell_data`` (``NAME -> (on the polygons, on the lines)``). Peak memory: the arrays returned
     plus a few megabytes. Raises :class:`ExportError` for a damaged file of blockmesh's layout.
     """
-    where = str(path)
-    place = _Place()
-    with reading(where) as guard, open_regular(path) as f:
-        size = os.fstat(f.fileno()).st_size
-        try:
-            return _parse(f, size, guard, place)
-        except _DamagedError as exc:
-            raise ExportError(f"{where}: {place.where}: {exc}") from None
-        except (_NotOursError, ValueError, IndexError, UnicodeDecodeError):
-            return None  # another layout: meshio reads it and reports what is wrong
+    # Damage is reported from the first section on: only blockmesh's layout gets past the header.
+    return read_own_layout(
+        path, _parse, Place(ours=True), not_ours=(ValueError, IndexError, UnicodeDecodeError)
+    )

@@ -56,7 +56,6 @@ Examples
 
 from __future__ import annotations
 
-import shutil
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -78,6 +77,7 @@ from blockmesh.io.common import (
     line_arrays,
     mesh_from_arrays,
     name_lookup,
+    splice_after,
     split_lines,
 )
 from blockmesh.io.polygons import (
@@ -155,26 +155,16 @@ def _field_data_xml(data: dict[str, np.ndarray]) -> bytes:
     return ("<FieldData>\n" + "".join(arrays) + "</FieldData>\n").encode("utf-8")
 
 
-def _insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
-    """Copy the meshio output ``src`` to ``dst`` with a <FieldData> block in <UnstructuredGrid>."""
-    tag = b"<UnstructuredGrid>"
-    with open(src, "rb") as fin, open(dst, "wb") as fout:
-        head = fin.read(1 << 16)
-        at = head.find(tag)
-        if at < 0:
-            raise ExportError(f"unexpected VTU layout from meshio in {src}: no {tag.decode()}")
-        at += len(tag)
-        fout.write(head[:at] + b"\n" + _field_data_xml(data) + head[at:])
-        shutil.copyfileobj(fin, fout, 1 << 22)
-
-
 def insert_field_data(src: Path, dst: Path, data: dict[str, np.ndarray]) -> None:
     """Copy a VTU file meshio wrote (``src``) to ``dst`` with ``data`` as its field data.
 
     meshio writes no field data; ``data`` maps names to integer (or ``uint8``) arrays, as
-    :func:`field_data` gives them. Other writers of VTU files (solutions) use it too.
+    :func:`field_data` gives them; they go in a <FieldData> block in <UnstructuredGrid>. Other
+    writers of VTU files (solutions) use it too.
     """
-    _insert_field_data(src, dst, data)
+    tag = b"<UnstructuredGrid>"
+    missing = f"unexpected VTU layout from meshio in {src}: no {tag.decode()}"
+    splice_after(src, dst, tag, b"\n" + _field_data_xml(data), head=1 << 16, missing=missing)
 
 
 def meshio_mesh(mesh: Mesh | PolygonMesh) -> meshio.Mesh:
@@ -360,7 +350,7 @@ def write_vtu(mesh: Mesh | PolygonMesh, path: Path, *, compression: str = "none"
             compression=None if compression == "none" else compression,
             header_type="UInt64" if big else None,
         )
-        _insert_field_data(raw, final, field_data(mesh))
+        insert_field_data(raw, final, field_data(mesh))
     return Path(path).absolute()
 
 

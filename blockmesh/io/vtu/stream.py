@@ -38,7 +38,6 @@ Examples
 from __future__ import annotations
 
 import binascii
-import os
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -47,8 +46,9 @@ from typing import BinaryIO
 
 import numpy as np
 
-from blockmesh._system.bounded import ReadGuard, inflate, open_regular, reading
+from blockmesh._system.bounded import ReadGuard, inflate
 from blockmesh.errors import ExportError
+from blockmesh.io.streams import DamagedError, NotOursError, Place, read_own_layout
 from blockmesh.io.text import parse_numbers
 
 __all__ = ["VtuParts", "read_stream"]
@@ -80,14 +80,6 @@ _CELL_DATA = ("block_id", "region", "parent", "patch", "interface")
 _ATTR = re.compile(rb"""\s*([A-Za-z_:][\w:.-]*)\s*=\s*(?:"([^"<]*)"|'([^'<]*)')""")
 
 
-class _NotOursError(Exception):
-    """The file is not one this reader handles; meshio reads it instead."""
-
-
-class _DamagedError(_NotOursError):
-    """The file is damaged: an error if it is blockmesh's, else meshio's to report."""
-
-
 def _attributes(rest: bytes) -> dict[str, str]:
     """The attributes of a tag's text after its name, parsed left to right in linear time."""
     attrs: dict[str, str] = {}
@@ -95,7 +87,7 @@ def _attributes(rest: bytes) -> dict[str, str]:
     while at < end:
         match = _ATTR.match(rest, at)
         if match is None:
-            raise _DamagedError(f"a malformed attribute in a tag: {rest[at : at + 40]!r}")
+            raise DamagedError(f"a malformed attribute in a tag: {rest[at : at + 40]!r}")
         value = match[2] if match[2] is not None else match[3]
         attrs[match[1].decode(errors="replace")] = value.decode(errors="replace")
         at = match.end()
@@ -152,7 +144,7 @@ class _Sink:
         at = 0
         while at < rows:
             if self.part >= len(self.targets):
-                raise _DamagedError("more values than expected")
+                raise DamagedError("more values than expected")
             size, put = self.targets[self.part]
             take = min(size - self.done_rows, rows - at)
             put(self.done_rows, values[at : at + take])
@@ -163,7 +155,7 @@ class _Sink:
 
     def close(self) -> None:
         if self.tail or self.part != len(self.targets):
-            raise _DamagedError("fewer values than expected")
+            raise DamagedError("fewer values than expected")
 
 
 def _into(out: np.ndarray, keep: int | None = None) -> Callable[[int, np.ndarray], None]:
@@ -186,7 +178,7 @@ def _expect(
 
     def put(start: int, values: np.ndarray) -> None:
         if not np.all(predicate(start, values[:, 0])):
-            raise _NotOursError("cells other than pentagons and lines")
+            raise NotOursError("cells other than pentagons and lines")
 
     return put
 
@@ -216,7 +208,7 @@ class _Scanner:
         """The (short: at most ``limit`` bytes) text up to ``token``, which is consumed."""
         while (at := self.buf.find(token, self.pos)) < 0:
             if len(self.buf) - self.pos > limit or not self._more():
-                raise _DamagedError(f"no {token!r}")
+                raise DamagedError(f"no {token!r}")
         text = self.buf[self.pos : at]
         self.pos = at + len(token)
         return text
@@ -230,7 +222,7 @@ class _Scanner:
                 continue
             parts = body.rstrip(b"/").split(None, 1)
             if not parts:
-                raise _DamagedError("an empty tag")
+                raise DamagedError("an empty tag")
             return parts[0], _attributes(parts[1] if len(parts) > 1 else b"")
 
     def stream(self, feed: Callable[[bytes], None], count: int | None = None) -> None:
@@ -256,18 +248,18 @@ class _Scanner:
                 text = text.rstrip()
             usable = len(text) if final else len(text) - len(text) % 4
             if usable % 4:
-                raise _DamagedError("base64 text of a length that is not a multiple of 4")
+                raise DamagedError("base64 text of a length that is not a multiple of 4")
             try:
                 data = binascii.a2b_base64(text[:usable], strict_mode=True)
             except binascii.Error as exc:
-                raise _DamagedError(str(exc)) from None
+                raise DamagedError(str(exc)) from None
             carry = text[usable:]
             if data:
                 feed(data)
             if final:
                 return
             if not self._more():
-                raise _DamagedError("the file ends inside an array")
+                raise DamagedError("the file ends inside an array")
 
     def decoded(self, count: int) -> bytes:
         """The bytes of the next ``count`` base64 characters."""
@@ -292,7 +284,7 @@ def _read_array(
     """
     dtype = _TYPES.get(attrs.get("type", ""))
     if attrs.get("format") != "binary" or dtype is None:
-        raise _NotOursError(
+        raise NotOursError(
             f"format={attrs.get('format')!r} type={attrs.get('type')!r} (blockmesh writes binary "
             "arrays of numbers)"
         )
@@ -310,7 +302,7 @@ def _read_array(
                     return
                 size = int(np.frombuffer(pending[: htype.itemsize], htype)[0])
                 if size > left * 3 // 4:
-                    raise _DamagedError(
+                    raise DamagedError(
                         f"its header announces {size:,} bytes, but only {left:,} bytes of "
                         "the file are left (damaged or truncated)"
                     )
@@ -320,35 +312,35 @@ def _read_array(
 
         scan.stream(first)
         if not sink:
-            raise _DamagedError("an empty array")
+            raise DamagedError("an empty array")
         sink[0].close()
         return
     head = np.frombuffer(scan.decoded(4 * htype.itemsize), htype)  # 3 items: 12 or 24 bytes
     if head.size < 3:
-        raise _DamagedError("a compression header cut short")
+        raise DamagedError("a compression header cut short")
     blocks, block, last = (int(v) for v in head[:3])
     if not 0 < blocks < 1 << 40 or block < 1 or not 0 < last <= block:
-        raise _DamagedError(
+        raise DamagedError(
             f"a bad compression header ({blocks} blocks of {block} bytes, the last {last})"
         )
     rest = blocks * htype.itemsize
     chars = 4 * -(-(rest + 3 * htype.itemsize) // 3) - 4 * htype.itemsize
     if chars > scan.left:
-        raise _DamagedError(
+        raise DamagedError(
             f"its compression header lists {blocks:,} blocks, more than the file can hold"
         )
     sizes = np.frombuffer(scan.decoded(chars), htype)
     if sizes.size != blocks:
-        raise _DamagedError("a compression header cut short")
+        raise DamagedError("a compression header cut short")
     ends = np.cumsum(sizes.astype(np.int64))
     if int(ends[-1]) > scan.left * 3 // 4:
-        raise _DamagedError(
+        raise DamagedError(
             f"its {blocks:,} compressed blocks take {int(ends[-1]):,} bytes, but only "
             f"{scan.left:,} bytes of the file are left (damaged or truncated)"
         )
     total = (blocks - 1) * block + last
     if total > guard.expansion_allowed - guard.expanded_bytes:
-        raise _DamagedError(
+        raise DamagedError(
             f"its compressed blocks announce {total:,} bytes, more than the file may expand to "
             f"({guard.expansion_allowed:,} bytes: a decompression bomb?)"
         )
@@ -365,7 +357,7 @@ def _read_array(
             try:
                 raw = inflate(buf[lo:hi], compressor, last if k == blocks - 1 else block, what, "")
             except ExportError as error:
-                raise _DamagedError(str(error).lstrip(": ")) from None
+                raise DamagedError(str(error).lstrip(": ")) from None
             out.feed(raw)
             k += 1
         lo = (int(ends[k - 1]) if k else 0) - base
@@ -373,69 +365,61 @@ def _read_array(
 
     scan.stream(feed)
     if k != blocks or tail:
-        raise _DamagedError(f"{blocks - k} of its {blocks} compressed blocks are missing")
+        raise DamagedError(f"{blocks - k} of its {blocks} compressed blocks are missing")
     out.close()
 
 
 def _field(scan: _Scanner, attrs: dict[str, str], guard: ReadGuard) -> np.ndarray:
     dtype = _TYPES.get(attrs.get("type", ""))
     if attrs.get("format") != "ascii" or dtype is None:
-        raise _NotOursError("field data that is not ascii")
+        raise NotOursError("field data that is not ascii")
     text = scan.until(b"</DataArray>", _FIELD_LIMIT)
     name = attrs.get("Name", "")[:40]
     guard.allocate(4 * len(text), f"the field data {name!r}")  # at most len/2 float64 values
     try:
         values = parse_numbers(text, np.float64, "field data")
     except ExportError:
-        raise _NotOursError("field data that is not numbers") from None
+        raise NotOursError("field data that is not numbers") from None
     kind = np.dtype(dtype)
     low, high = (np.iinfo(kind).min, np.iinfo(kind).max) if kind.kind in "iu" else (-np.inf, np.inf)
     if not np.all((values >= low) & (values <= high)):  # NaN fails too
-        raise _NotOursError(f"field data beyond the range of {kind}")
+        raise NotOursError(f"field data beyond the range of {kind}")
     return values.astype(dtype)
 
 
-@dataclass
-class _Place:
-    """Where the parser is, for messages: whether the file is blockmesh's, and which array."""
-
-    ours: bool = False
-    where: str = "the header"
-
-
-def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: _Place) -> VtuParts:
+def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: Place) -> VtuParts:
     scan = _Scanner(f, size)
     name, top = scan.tag()
     if name != b"VTKFile" or top.get("type") != "UnstructuredGrid":
-        raise _NotOursError("not an unstructured grid")
+        raise NotOursError("not an unstructured grid")
     if top.get("byte_order", "LittleEndian") != "LittleEndian":
-        raise _NotOursError("big-endian")
+        raise NotOursError("big-endian")
     header = _TYPES.get(top.get("header_type", "UInt32"), "")
     if header not in ("<u4", "<u8") or top.get("compressor") not in _COMPRESSORS:
-        raise _NotOursError("another header type or compressor")
+        raise NotOursError("another header type or compressor")
     compressor = _COMPRESSORS[top.get("compressor")]
     fields: dict[str, np.ndarray] = {}
     if scan.tag()[0] != b"UnstructuredGrid" or scan.tag()[0] != b"FieldData":
-        raise _NotOursError("no field data")
+        raise NotOursError("no field data")
     while (tag := scan.tag())[0] == b"DataArray":
         fields[tag[1].get("Name", "")] = _field(scan, tag[1], guard)
     name, piece = scan.tag()
     if tag[0] != b"/FieldData" or name != b"Piece" or "blockmesh" not in fields:
-        raise _NotOursError("not written by blockmesh")
+        raise NotOursError("not written by blockmesh")
     place.ours, place.where = True, "<Piece>"
     try:
         n, total = int(piece["NumberOfPoints"]), int(piece["NumberOfCells"])
     except (KeyError, ValueError):
-        raise _NotOursError("no whole-number NumberOfPoints and NumberOfCells") from None
+        raise NotOursError("no whole-number NumberOfPoints and NumberOfCells") from None
     if n < 0 or total < 0:
-        raise _DamagedError(f"NumberOfPoints={n}, NumberOfCells={total}")
+        raise DamagedError(f"NumberOfPoints={n}, NumberOfCells={total}")
     shape: dict[str, int] = {}
     empty = np.empty((0, 2))
     parts = VtuParts(empty, np.empty((0, 5), np.int64), np.empty((0, 2), np.int64))
 
     def plan_points(nbytes: int, dtype: str) -> _Sink:
         if nbytes != 3 * n * np.dtype(dtype).itemsize:
-            raise _DamagedError(f"{nbytes:,} bytes for {n:,} points of 3 coordinates")
+            raise DamagedError(f"{nbytes:,} bytes for {n:,} points of 3 coordinates")
         guard.allocate(16 * n, f"the {n:,} points")
         parts.points = np.empty((n, 2))
         return _Sink(dtype, 3, [(n, _into(parts.points, keep=2))])
@@ -444,7 +428,7 @@ def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: _Place) -> VtuParts:
         length = nbytes // np.dtype(dtype).itemsize
         m, rem = divmod(length - 2 * total, 3)  # 5 m + 2 (total - m) == length
         if rem or not 0 < m <= total or nbytes % np.dtype(dtype).itemsize:
-            raise _NotOursError(
+            raise NotOursError(
                 f"{length:,} node ids for {total:,} cells: not pentagons followed by lines"
             )
         shape["m"], shape["eb"] = m, total - m
@@ -457,7 +441,7 @@ def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: _Place) -> VtuParts:
     def plan_check(kind: str) -> Callable[[int, str], _Sink]:
         def plan(nbytes: int, dtype: str) -> _Sink:
             if "m" not in shape or nbytes != total * np.dtype(dtype).itemsize:
-                raise _DamagedError(f"{nbytes:,} bytes for {total:,} cells")
+                raise DamagedError(f"{nbytes:,} bytes for {total:,} cells")
             m = shape["m"]
             if kind == "offsets":
                 targets: list[Target] = [
@@ -479,7 +463,7 @@ def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: _Place) -> VtuParts:
     def plan_data(key: str) -> Callable[[int, str], _Sink]:
         def plan(nbytes: int, dtype: str) -> _Sink:
             if "m" not in shape or nbytes != total * np.dtype(dtype).itemsize:
-                raise _DamagedError(f"{nbytes:,} bytes for {total:,} cells")
+                raise DamagedError(f"{nbytes:,} bytes for {total:,} cells")
             guard.allocate(8 * total, f"the cell data {key!r}")
             on = (np.empty(shape["m"], np.int64), np.empty(shape["eb"], np.int64))
             if key in _CELL_DATA:
@@ -502,26 +486,26 @@ def _parse(f: BinaryIO, size: int, guard: ReadGuard, place: _Place) -> VtuParts:
     for section, plans in sections:
         place.where = f"<{section.decode()}>"
         if scan.tag()[0] != section:
-            raise _NotOursError(f"no <{section.decode()}> where it belongs")
+            raise NotOursError(f"no <{section.decode()}> where it belongs")
         while (tag := scan.tag())[0] == b"DataArray":
             key = tag[1].get("Name", "")
             place.where = f"the DataArray {key!r} in <{section.decode()}>"
             plan = plan_data(key) if plans is None else plans.get(key)
             if plan is None or key in seen:
-                raise _NotOursError("an array not expected there (or twice)")
+                raise NotOursError("an array not expected there (or twice)")
             seen.add(key)
             _read_array(scan, tag[1], header, compressor, plan, guard)
             if scan.tag()[0] != b"/DataArray":
-                raise _NotOursError("no </DataArray> after the data")
+                raise NotOursError("no </DataArray> after the data")
             place.where = f"<{section.decode()}>"
         if tag[0] != b"/" + section:
-            raise _NotOursError(f"<{tag[0].decode(errors='replace')}> where it does not belong")
+            raise NotOursError(f"<{tag[0].decode(errors='replace')}> where it does not belong")
     place.where = "<Piece>"
     missing = {"Points", "connectivity", "offsets", "types"} - seen
     if missing:
-        raise _NotOursError(f"no {', '.join(sorted(missing))} array")
+        raise NotOursError(f"no {', '.join(sorted(missing))} array")
     if [scan.tag()[0] for _ in range(3)] != [b"/Piece", b"/UnstructuredGrid", b"/VTKFile"]:
-        raise _NotOursError("more than one piece")
+        raise NotOursError("more than one piece")
     parts.fields = fields
     return parts
 
@@ -533,17 +517,9 @@ def read_stream(path: Path) -> VtuParts | None:
     file that is not a regular file, and for one that has blockmesh's field data but is damaged
     (naming the array and what is wrong).
     """
-    where = str(path)
-    place = _Place()
-    with reading(where) as guard, open_regular(path) as f:
-        size = os.fstat(f.fileno()).st_size
-        try:
-            return _parse(f, size, guard, place)
-        except _DamagedError as exc:
-            if not place.ours:
-                return None  # not blockmesh's: meshio reports what is wrong
-            raise ExportError(f"{where}: {place.where}: {exc}") from None
-        except (_NotOursError, ValueError, TypeError, IndexError, OverflowError):
-            return None  # another layout: meshio reads it
-        except UnicodeDecodeError:
-            return None
+    return read_own_layout(
+        path,
+        _parse,
+        Place(),
+        not_ours=(ValueError, TypeError, IndexError, OverflowError, UnicodeDecodeError),
+    )
