@@ -3,7 +3,8 @@
 An :class:`Outline` is corners joined by chains (straight or curved; boundaries, and interfaces
 between regions), each chain knowing the region on its left and on its right. Every chain gets
 points at spacings that follow the triangle edge length wanted (arc length along curves, which
-also get a point every :data:`CURVE_TURN` of turning); the points are fixed from there on, and
+also get a point every :data:`CURVE_TURN` of turning, or every :data:`CURVE_TURN_SAFE` when
+the outline asks for it); the points are fixed from there on, and
 each chain is sampled once, so a shared interface is the same on both sides. The sampled chains
 (:class:`_Chains`) are what :mod:`blockmesh.decompose.sized_triangles` fills and triangulates;
 :func:`arc_pieces` gives the curve of each piece of a chain to the Domain made from the blocks.
@@ -26,11 +27,17 @@ import numpy as np
 from blockmesh.curves.types import Arc, Curve
 from blockmesh.errors import ResourceError
 
-__all__ = ["CURVE_TURN", "MAX_BLOCKS", "ChainCurve", "Outline", "arc_pieces"]
+__all__ = ["CURVE_TURN", "CURVE_TURN_SAFE", "MAX_BLOCKS", "ChainCurve", "Outline", "arc_pieces"]
 
-#: Largest turn of a curved chain between two of its points (radians): 30 degrees (each
-#: block edge along it, a third of that).
-CURVE_TURN = math.pi / 6
+#: Largest turn of a curved chain between two of its points (radians): 40 degrees (each
+#: block edge along it, a third of that). Finer sampling costs cells where the field is coarse
+#: beside a small curve: at 30 degrees fibre-cell at sqrt(area) / 25 (fibres of radius 3.75 h)
+#: needed 2.33 times the ideal count, at 40 degrees 1.84 times.
+CURVE_TURN = 2 * math.pi / 9
+#: The turn of an outline sampled again because a block along a curve folded at 40 degrees
+#: (30 degrees; a curve bulging across a block much larger than its radius of curvature,
+#: e.g. fibre-cell at sizes above the fibres' diameter).
+CURVE_TURN_SAFE = math.pi / 6
 #: Most blocks made (about 9 per triangle); beyond, ResourceError (the memory guard of
 #: :func:`blockmesh.sizing.ideal_count` says so first, for sizes it can see).
 MAX_BLOCKS = 20_000_000
@@ -77,6 +84,9 @@ class Outline:
         Each chain's curve from its start (parameter 0) to its end (1), or None if straight.
     left, right : ndarray (C,) int
         The region on each side of the chain as it runs; -1 outside the domain.
+    curve_turn : float
+        Largest turn of a curved chain between two of its points, in radians
+        (:data:`CURVE_TURN`; :data:`CURVE_TURN_SAFE` samples curves more finely).
     """
 
     corners: np.ndarray
@@ -84,6 +94,7 @@ class Outline:
     curves: tuple[ChainCurve | None, ...]
     left: np.ndarray
     right: np.ndarray
+    curve_turn: float = CURVE_TURN
 
     @classmethod
     def from_rings(
@@ -120,7 +131,7 @@ def _chain_params(outline: Outline, c: int, length, *, pieces_at_least: int = 1)
 
     The arc length is integrated with a dense sampling; the points are equally spaced in
     ``integral of ds / L`` (so the pieces follow the field along the chain), at least
-    ``pieces_at_least`` of them, and curves get a piece per :data:`CURVE_TURN` of turning.
+    ``pieces_at_least`` of them, and curves get a piece per ``outline.curve_turn`` of turning.
     """
     a, b = outline.chains[c]
     curve = outline.curves[c]
@@ -135,7 +146,7 @@ def _chain_params(outline: Outline, c: int, length, *, pieces_at_least: int = 1)
     if curve is not None:
         tangent = curve.derivative(np.linspace(0.0, 1.0, 257))
         heading = np.unwrap(np.arctan2(tangent[:, 1], tangent[:, 0]))
-        turns = math.ceil(float(np.sum(np.abs(np.diff(heading)))) / CURVE_TURN - 1e-9)
+        turns = math.ceil(float(np.sum(np.abs(np.diff(heading)))) / outline.curve_turn - 1e-9)
     for _ in range(4):
         t = np.linspace(0.0, 1.0, samples + 1)
         xy = where(t)

@@ -31,7 +31,7 @@ _STEP = 0.2
 _FSCALE = 1.2
 #: After the thinning, a triangle with a side longer than this times the side wanted at its
 #: centroid gets a point there: a triangle spanning a gap between two stretches of the outline
-#: sampled closer than the field asks (a fibre's arcs, sampled every 30 degrees, beside a wall
+#: sampled closer than the field asks (a fibre's arcs, sampled every 40 degrees, beside a wall
 #: or another fibre), or running from the outline's crowded points into an interior the count
 #: left empty. Without it the relaxation keeps such slivers, and their templates are seams of
 #: thin cells (fibre-cell at sqrt(area) / 25: worst angle 13.5 degrees, neighbour ratio 4.75).

@@ -14,6 +14,7 @@ import pytest
 
 import blockmesh
 from blockmesh.curves import Arc
+from blockmesh.decompose.outline import CURVE_TURN, CURVE_TURN_SAFE
 from blockmesh.decompose.sized import NEIGHBOUR_RATIO, SIZE_TOLERANCE
 from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.geometry.polygons import signed_area
@@ -196,25 +197,10 @@ def test_size_and_level_together():
         d.mesh()
 
 
-#: Known failures of the guarantee, kept visible (strict: they fail the run once they pass).
-KNOWN_FAILURES = {
-    ("fibre-cell", 25): (
-        "issue 24, open: at h = 0.04 the four fibres (radius 0.15 = 3.75 h) are sampled every 30 "
-        "degrees, 48 interface points where the field asks for about 30, and they alone make "
-        "some 100 of the triangles a conforming triangulation needs: 2.33 times the ideal "
-        "count (2 stated); the seams of thin cells between them are gone (neighbour ratio 2.14 "
-        "against 4.75 before the span fill, worst angle 28.4 degrees against 13.5)"
-    ),
-}
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("divisions", [25, 250])
 @pytest.mark.parametrize("name", catalogue_names())
-def test_every_catalogue_domain_at_sizes_spanning_ten_times(request, name, divisions):
-    if (name, divisions) in KNOWN_FAILURES:
-        reason = KNOWN_FAILURES[name, divisions]
-        request.node.add_marker(pytest.mark.xfail(reason=reason, strict=True))
+def test_every_catalogue_domain_at_sizes_spanning_ten_times(name, divisions):
     domain = blockmesh.load_domain(name)
     check_sized(domain, _size(domain, divisions))
 
@@ -308,3 +294,21 @@ def test_size_per_region_of_a_composite_domain(tmp_path):
 def test_every_composite_domain_at_sizes_spanning_ten_times(name, divisions):
     domain = blockmesh.load_domain(name)
     check_sized(domain, _size(domain, divisions))
+
+
+def _largest_block_edge_turn(sized: blockmesh.Domain) -> float:
+    """The largest turn of a curved block edge, in radians (arcs only)."""
+    return max(abs(curve.sweep) for curve in sized.curves.values() if isinstance(curve, Arc))
+
+
+def test_curves_sampled_finely_again_where_a_block_would_fold():
+    # Fibres of radius 0.15 under cells of 0.25: at 40 degrees per curve piece a block along a
+    # fibre folds when refined; the outline is sampled again at 30 degrees and holds.
+    fibres = blockmesh.load_domain("fibre-cell")
+    coarse = fibres.with_size(0.25)
+    # A segment's three block edges are not quite equal: each turns at most 1.1 times a third.
+    assert _largest_block_edge_turn(coarse) <= 1.1 * CURVE_TURN_SAFE / 3
+    coarse.mesh(3).check_geometry()
+    # Where nothing folds the curves keep the coarser sampling (fewer cells).
+    fine = fibres.with_size(math.sqrt(fibres.area) / 25)
+    assert 1.1 * CURVE_TURN_SAFE / 3 < _largest_block_edge_turn(fine) <= 1.1 * CURVE_TURN / 3
