@@ -24,7 +24,9 @@ The steps (``docs/composite.md``):
    blocks of neighbouring regions meet edge to edge along every interface;
 5. block vertices on a chord of a circle move onto the circle, and every block edge along it
    becomes an arc around the circle's centre: stored once per edge, so a fibre keeps a true
-   circle on both sides and both regions share its nodes bit for bit at every level;
+   circle on both sides and both regions share its nodes bit for bit at every level (blocks
+   that fold there are made again with the circles followed more finely, :data:`FINER`; a
+   sliver too thin for them even then is a located error naming its region and the parts);
 6. the Domain gets its regions, boundary patches (the parts' patches where their edges are on
    the boundary, ``"boundary"`` elsewhere) and interfaces (``"A|B"`` between regions ``A`` and
    ``B``, in the order of the parts, unless renamed).

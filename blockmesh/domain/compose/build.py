@@ -15,7 +15,7 @@ import numpy as np
 import shapely
 
 from blockmesh.curves.types import Arc, Curve
-from blockmesh.domain.compose.arrangement import Arrangement
+from blockmesh.domain.compose.arrangement import Arrangement, _listed
 from blockmesh.domain.compose.circles import Circles
 from blockmesh.domain.compose.fragments import SourcePieces
 from blockmesh.domain.interfaces import check_interface_name, default_interface_name
@@ -72,11 +72,10 @@ class BlocksFailError(Exception):
         )
         wide = 2 * float(shapely.distance(shapely.Point(*where), outline.boundary))
         near = pieces.near(where, 2 * wide + float(np.ptp(corners[b], axis=0).max()))
-        listed = " and ".join([", ".join(near[:-1]), near[-1]] if len(near) > 1 else near)
         return DomainError(
             f"{parts[int(arrangement.face_region[face])].label} is too thin near "
             f"{fmt_point(where)} (about {wide:.3g} wide, between the outlines of "
-            f"{listed or 'the parts'}) for blocks that stay convex along its curved sides: "
+            f"{_listed(near)}) for blocks that stay convex along its curved sides: "
             "there a later part's circle cuts it at a sharp angle or nearly touches its outline; "
             "let the later part cover the sliver (overlap the parts by more there) or keep the "
             "parts clearly apart"
