@@ -20,6 +20,7 @@ from blockmesh.domain.compose.circles import Circles
 from blockmesh.domain.compose.fragments import SourcePieces
 from blockmesh.domain.interfaces import check_interface_name, default_interface_name
 from blockmesh.domain.parts import Part
+from blockmesh.domain.validate.points import coincident_pairs
 from blockmesh.domain.validate.tolerances import NEAR_TOL
 from blockmesh.errors import DomainError, DomainFormatError, fmt_point
 from blockmesh.geometry.polygons import interior_angles, signed_area
@@ -54,12 +55,16 @@ class BlocksFailError(Exception):
 
         A block folds where a face is too thin for its curved sides: a sliver left of an earlier
         part where a later part's circle cuts it at a sharp angle, its blocks' nodes moved onto
-        the circles by more than the sliver is wide. Without a folded block (a curved edge
-        bulging too far), :attr:`error` as it is.
+        the circles by more than the sliver is wide (or two of them onto one point). Without a
+        folded block (a curved edge bulging too far), :attr:`error` as it is.
         """
         corners = self.vertices[self.blocks]
+        doubled = np.zeros(len(self.vertices), dtype=bool)  # nodes moved onto one point
+        doubled[np.array(coincident_pairs(self.vertices), dtype=np.int64).ravel()] = True
         folded = np.flatnonzero(
-            (interior_angles(corners).max(axis=1) >= 180.0) | (signed_area(corners) <= 0.0)
+            (interior_angles(corners).max(axis=1) >= 180.0)
+            | (signed_area(corners) <= 0.0)
+            | doubled[self.blocks].any(axis=1)
         )
         if not folded.size:
             return self.error
@@ -70,11 +75,11 @@ class BlocksFailError(Exception):
             arrangement.points[arrangement.faces[face][0]],
             [arrangement.points[ring] for ring in arrangement.faces[face][1:]],
         )
-        wide = 2 * float(shapely.distance(shapely.Point(*where), outline.boundary))
-        near = pieces.near(where, 2 * wide + float(np.ptp(corners[b], axis=0).max()))
+        wide = 2 * float(shapely.length(shapely.maximum_inscribed_circle(outline)))
+        near = pieces.near(where, wide + float(np.ptp(corners[b], axis=0).max()))
         return DomainError(
             f"{parts[int(arrangement.face_region[face])].label} is too thin near "
-            f"{fmt_point(where)} (about {wide:.3g} wide, between the outlines of "
+            f"{fmt_point(where)} (a sliver about {wide:.3g} wide at most, between the outlines of "
             f"{_listed(near)}) for blocks that stay convex along its curved sides: "
             "there a later part's circle cuts it at a sharp angle or nearly touches its outline; "
             "let the later part cover the sliver (overlap the parts by more there) or keep the "
