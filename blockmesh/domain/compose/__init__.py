@@ -10,7 +10,10 @@ overlap anywhere, and where two overlap the later one wins. Nobody cuts holes by
 The steps (``docs/composite.md``):
 
 1. every circle (circular holes, discs, arcs, a Domain's arcs) is followed at points shared by
-   every part on it, with the points where other parts cross it computed exactly;
+   every part on it, with the points where other parts cross it computed exactly, and more
+   finely where two outlines would otherwise follow one chord along different curves (a thin
+   lens between two circles, a circle's cap cut by a straight edge), so that no face between
+   them is lost however thin;
 2. the parts are fragmented (shapely: region ``i`` is part ``i`` minus the later parts), their
    boundaries noded, and the faces of the arrangement found (:func:`shapely.polygonize`); each
    face is a connected piece of one region, its rings point ids of the arrangement;
@@ -21,7 +24,9 @@ The steps (``docs/composite.md``):
    blocks of neighbouring regions meet edge to edge along every interface;
 5. block vertices on a chord of a circle move onto the circle, and every block edge along it
    becomes an arc around the circle's centre: stored once per edge, so a fibre keeps a true
-   circle on both sides and both regions share its nodes bit for bit at every level;
+   circle on both sides and both regions share its nodes bit for bit at every level (blocks
+   that fold there are made again with the circles followed more finely, :data:`FINER`; a
+   sliver too thin for them even then is a located error naming its region and the parts);
 6. the Domain gets its regions, boundary patches (the parts' patches where their edges are on
    the boundary, ``"boundary"`` elsewhere) and interfaces (``"A|B"`` between regions ``A`` and
    ``B``, in the order of the parts, unless renamed).
@@ -55,10 +60,12 @@ from blockmesh.domain.compose.arrangement import Arrangement
 from blockmesh.domain.compose.build import BlocksFailError, build_domain, interface_renames
 from blockmesh.domain.compose.circles import (
     CIRCLE_PIECES,
+    SHARED_CHORD_PIECES,
     Circles,
     circles_of,
     crossings,
     follow,
+    split_shared_chords,
 )
 from blockmesh.domain.compose.fragments import (
     SourcePieces,
@@ -115,7 +122,7 @@ def compose_parts(
         except BlocksFailError as failed:
             # Blocks that fold with their arcs: follow the circles more finely and try again.
             if not circles.items or finer == FINER[-1]:
-                raise failed.error from None
+                raise failed.located(parts, arrangement, pieces) from None
     raise AssertionError("unreachable")  # pragma: no cover
 
 
@@ -156,13 +163,20 @@ def arrange(
     tol = NEAR_TOL * size
     circles = circles_of(parts, size)
     splits = crossings(parts, circles, tol)
-    for circle in circles.items:
-        circle.sample(finer)
-    rings = [
-        [[follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
-         for j, polygon in enumerate(part.polygons)]
-        for i, part in enumerate(parts)
-    ]  # fmt: skip
+    while True:
+        for circle in circles.items:
+            circle.sample(finer)
+        rings = [
+            [[follow(o, circles, splits, (i, j, r)) for r, o in enumerate(polygon)]
+             for j, polygon in enumerate(part.polygons)]
+            for i, part in enumerate(parts)
+        ]  # fmt: skip
+        # Chords two outlines share along different curves get their arcs' middles fixed, and
+        # the outlines are followed again; the new points lie on one circle each, so a second
+        # round finds nothing more to split.
+        followed = [ring for part in rings for polygon in part for ring in polygon]
+        if not split_shared_chords(followed, circles, SHARED_CHORD_PIECES * finer):
+            break
     shapes = [part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
     regions = fragments(parts, shapes)
     pieces = SourcePieces(parts, rings)

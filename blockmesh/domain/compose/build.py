@@ -8,20 +8,22 @@ regions their interfaces (``"A|B"``, or the names :func:`interface_renames` chec
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import shapely
 
 from blockmesh.curves.types import Arc, Curve
-from blockmesh.domain.compose.arrangement import Arrangement
+from blockmesh.domain.compose.arrangement import Arrangement, _listed
 from blockmesh.domain.compose.circles import Circles
 from blockmesh.domain.compose.fragments import SourcePieces
 from blockmesh.domain.interfaces import check_interface_name, default_interface_name
 from blockmesh.domain.parts import Part
+from blockmesh.domain.validate.points import coincident_pairs
 from blockmesh.domain.validate.tolerances import NEAR_TOL
-from blockmesh.errors import DomainError, DomainFormatError
+from blockmesh.errors import DomainError, DomainFormatError, fmt_point
+from blockmesh.geometry.polygons import interior_angles, signed_area
 from blockmesh.geometry.topology import graph_components
 
 if TYPE_CHECKING:
@@ -31,11 +33,58 @@ __all__ = ["BlocksFailError", "build_domain", "interface_renames"]
 
 
 class BlocksFailError(Exception):
-    """The blocks made for the faces fail the Domain's checks (``error`` says how)."""
+    """The blocks made for the faces fail the Domain's checks (``error`` says how).
 
-    def __init__(self, error: DomainError) -> None:
+    ``vertices`` and ``blocks`` are the failed blocks (arcs' nodes on their circles),
+    ``block_face`` the face of each.
+    """
+
+    def __init__(
+        self, error: DomainError, vertices: np.ndarray, blocks: np.ndarray, block_face: np.ndarray
+    ) -> None:
         super().__init__(str(error))
         self.error = error
+        self.vertices = vertices
+        self.blocks = blocks
+        self.block_face = block_face
+
+    def located(
+        self, parts: list[Part], arrangement: Arrangement, pieces: SourcePieces
+    ) -> DomainError:
+        """The error, naming the region, the place and the parts where a block folds.
+
+        A block folds where a face is too thin for its curved sides: a sliver left of an earlier
+        part where a later part's circle cuts it at a sharp angle, its blocks' nodes moved onto
+        the circles by more than the sliver is wide (or two of them onto one point). Without a
+        folded block (a curved edge bulging too far), :attr:`error` as it is.
+        """
+        corners = self.vertices[self.blocks]
+        doubled = np.zeros(len(self.vertices), dtype=bool)  # nodes moved onto one point
+        doubled[np.array(coincident_pairs(self.vertices), dtype=np.int64).ravel()] = True
+        folded = np.flatnonzero(
+            (interior_angles(corners).max(axis=1) >= 180.0)
+            | (signed_area(corners) <= 0.0)
+            | doubled[self.blocks].any(axis=1)
+        )
+        if not folded.size:
+            return self.error
+        b = int(folded[0])
+        face = int(self.block_face[b])
+        where = corners[b].mean(axis=0)
+        outline = shapely.Polygon(
+            arrangement.points[arrangement.faces[face][0]],
+            [arrangement.points[ring] for ring in arrangement.faces[face][1:]],
+        )
+        wide = 2 * float(shapely.length(shapely.maximum_inscribed_circle(outline)))
+        near = pieces.near(where, wide + float(np.ptp(corners[b], axis=0).max()))
+        return DomainError(
+            f"{parts[int(arrangement.face_region[face])].label} is too thin near "
+            f"{fmt_point(where)} (a sliver about {wide:.3g} wide at most, between the outlines of "
+            f"{_listed(near)}) for blocks that stay convex along its curved sides: "
+            "there a later part's circle cuts it at a sharp angle or nearly touches its outline; "
+            "let the later part cover the sliver (overlap the parts by more there) or keep the "
+            "parts clearly apart"
+        )
 
 
 def interface_renames(
@@ -89,18 +138,14 @@ def build_domain(
             ):
                 chains.setdefault((min(a, b), max(a, b)), chain if a < b else chain[::-1])
     edges: dict[tuple[int, int], Curve] = {}
-    sample_of: dict[tuple[float, float], list[tuple[int, int]]] = {}
-    for k, circle in enumerate(circles.items):
-        for key, j in circle.index.items():
-            sample_of.setdefault(key, []).append((k, j))
     points = arrangement.points
     for (a, b), chain in chains.items():
-        arc = _chord_of(points[a], points[b], sample_of, circles)
-        if arc is None:
+        k = pieces.curve(points[a], points[b])
+        if k < 0:
             continue
-        k, start, turn = arc
         circle = circles.items[k]
         p, q = points[a], points[b]
+        start, turn = circle.chord(p, q)
         d = q - p
         inner = chain[1:-1]
         fraction = (vertices[inner] - p) @ d / float(d @ d)
@@ -167,37 +212,4 @@ def build_domain(
             components=components,
         )
     except DomainError as error:
-        raise BlocksFailError(error) from None
-
-
-def _chord_of(
-    p: np.ndarray,
-    q: np.ndarray,
-    sample_of: Mapping[tuple[float, float], list[tuple[int, int]]],
-    circles: Circles,
-) -> tuple[int, float, float] | None:
-    """``(circle, start angle, turn)`` of a chord between neighbouring points of a circle.
-
-    None when ``p``-``q`` is a straight edge (not two neighbouring points a circle is followed at).
-    """
-    at_p = sample_of.get((float(p[0]), float(p[1])), [])
-    at_q = dict(sample_of.get((float(q[0]), float(q[1])), []))
-    for k, i in at_p:
-        j = at_q.get(k)
-        if j is None:
-            continue
-        circle = circles.items[k]
-        n = len(circle.xy)
-        if (j - i) % n == 1:
-            return (
-                k,
-                float(circle.angle[i]),
-                float((circle.angle[j] - circle.angle[i]) % (2 * math.pi)),
-            )
-        if (i - j) % n == 1:
-            return (
-                k,
-                float(circle.angle[i]),
-                -float((circle.angle[i] - circle.angle[j]) % (2 * math.pi)),
-            )
-    return None
+        raise BlocksFailError(error, vertices, np.array(result.blocks), face_of_block) from None

@@ -4,7 +4,12 @@ Every circle (circular holes, discs, arcs, a Domain's arcs) is found once (:clas
 with the points fixed on it: the ends of arcs, corners on it, and the points where straight edges
 and other circles cross it (:func:`crossings`, computed once so that both share them bit for
 bit). :func:`follow` turns a part's outline into the closed list of points every part on its
-circles shares.
+circles shares, with the curve each piece follows.
+
+Two outlines may follow the same two points along different curves: two discs overlapping in a
+lens whose arcs are each one chord, a straight edge that is a chord of a circle. Their pieces
+then coincide, and the thin face between the true curves vanishes. :func:`split_shared_chords`
+fixes a point in the middle of every such arc, so that the followed outlines keep the face.
 """
 
 from __future__ import annotations
@@ -20,17 +25,22 @@ from blockmesh.domain.parts import Outline, Part
 
 __all__ = [
     "CIRCLE_PIECES",
+    "SHARED_CHORD_PIECES",
     "Circle",
     "Circles",
     "FollowedRing",
     "circles_of",
     "crossings",
     "follow",
+    "split_shared_chords",
 ]
 
 #: Chords a whole circle is followed with by default (two per 45 degrees; a part's circle may
 #: ask for more with ``sides``); between the points fixed on a circle no chord turns more.
 CIRCLE_PIECES = 16
+#: Pieces an arc is cut into where two outlines follow it and another curve along one chord (times
+#: ``finer`` of :meth:`Circle.sample`): its middle is enough to keep the face between them.
+SHARED_CHORD_PIECES = 2
 #: Relative distance under which two circles are the same circle (centres and radii).
 _SAME_CIRCLE = 1e-9
 
@@ -97,6 +107,25 @@ class Circle:
             self.xy = np.vstack(points)
         self.index = {(float(x), float(y)): k for k, (x, y) in enumerate(self.xy.tolist())}
 
+    def chord(self, p: Any, q: Any) -> tuple[float, float]:
+        """``(start angle, turn)`` of the arc from ``p`` to ``q``, neighbouring followed points.
+
+        The arc is the one between them that no other followed point lies on; ``turn`` is
+        signed (counter-clockwise > 0).
+        """
+        n = len(self.xy)
+        i = self.index[(float(p[0]), float(p[1]))]
+        j = self.index[(float(q[0]), float(q[1]))]
+        if (j - i) % n == 1:
+            return float(self.angle[i]), float((self.angle[j] - self.angle[i]) % (2 * math.pi))
+        return float(self.angle[i]), -float((self.angle[i] - self.angle[j]) % (2 * math.pi))
+
+    def inner(self, p: Any, q: Any, pieces: int) -> np.ndarray:
+        """Points cutting the arc between neighbouring followed points ``p``, ``q`` evenly."""
+        start, turn = self.chord(p, q)
+        angles = start + turn * np.arange(1, pieces) / pieces
+        return self.centre + self.radius * np.c_[np.cos(angles), np.sin(angles)]
+
     def between(self, p: np.ndarray, q: np.ndarray, sweep: float) -> np.ndarray:
         """The points followed strictly between fixed points ``p`` and ``q``, going ``sweep``."""
         n = len(self.xy)
@@ -131,10 +160,15 @@ class Circles:
 
 @dataclass
 class FollowedRing:
-    """An outline followed as a closed list of points, with the part and patch of each piece."""
+    """An outline followed as a closed list of points, with the patch and curve of each piece.
+
+    Piece ``k`` runs from point ``k`` to point ``k + 1`` (cyclically); ``curve[k]`` is the index
+    of the circle it is a chord of, or -1 for a straight piece.
+    """
 
     xy: np.ndarray
     patch: list[str | None]
+    curve: list[int]
 
 
 def circles_of(parts: list[Part], size: float) -> Circles:
@@ -256,10 +290,12 @@ def follow(
     """An outline as the closed list of points every part on its circles shares."""
     if outline.circle is not None:
         centre, radius, _ = outline.circle
-        circle = circles.items[circles.find(centre, radius)]
-        return FollowedRing(circle.xy.copy(), [outline.patches[0]] * len(circle.xy))
+        k = circles.find(centre, radius)
+        count = len(circles.items[k].xy)
+        return FollowedRing(circles.items[k].xy.copy(), [outline.patches[0]] * count, [k] * count)
     points: list[np.ndarray] = []
     patch: list[str | None] = []
+    curve: list[int] = []
     n = len(outline.corners)
     for e in range(n):
         p, q = outline.corners[e], outline.corners[(e + 1) % n]
@@ -267,10 +303,70 @@ def follow(
         if arc is None:
             inner = sorted(splits.get((*key, e), []), key=lambda s: s[0]) if key else []
             run = [p[None], *(point[None] for _, point in inner)]
+            k = -1
         else:
-            circle = circles.items[circles.find(arc.centre, arc.radius)]
-            run = [p[None], circle.between(p, q, arc.sweep)]
+            k = circles.find(arc.centre, arc.radius)
+            run = [p[None], circles.items[k].between(p, q, arc.sweep)]
         block = np.vstack(run)
         points.append(block)
         patch += [outline.patches[e]] * len(block)
-    return FollowedRing(np.vstack(points), patch)
+        curve += [k] * len(block)
+    return FollowedRing(np.vstack(points), patch, curve)
+
+
+def split_shared_chords(
+    rings: Sequence[FollowedRing], circles: Circles, pieces: int = SHARED_CHORD_PIECES
+) -> int:
+    """Fix a point mid-arc on every chord that two outlines follow along different curves.
+
+    A piece of one outline may join the same two points as a piece of another along another
+    curve: two circles crossing at points that are neighbours on both (a lens thinner than a
+    chord's bulge), or a straight edge between two neighbouring points of a circle. Followed,
+    both are one segment, so the thin face between the true curves (the lens, the circle's cap)
+    is lost and nothing tells which curve the segment stands for. Each such circle gets its arc
+    between the two points cut into ``pieces`` (the cuts fixed on it): followed again
+    (:meth:`Circle.sample`, :func:`follow`), the pieces differ and the face between them is kept,
+    however thin; whether it is a face of its own or part of a neighbouring region is then the
+    fragmenting's business.
+
+    Returns the number of points newly fixed (0: no chord is shared, the rings stand).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from blockmesh.domain.compose.circles import Circles
+    >>> circles = Circles(1.0)
+    >>> circle = circles.items[circles.find((0.0, 0.0), 1.0)]
+    >>> for point in ([1.0, 0.0], [0.0, 1.0]):
+    ...     circle.anchor(np.array(point))
+    >>> circle.sample()  # a quarter circle: 4 chords between the fixed points
+    >>> a, b = circle.xy[0], circle.xy[1]
+    >>> chord = FollowedRing(np.array([a, b, [0.5, -1.0]]), [None] * 3, [0, -1, -1])
+    >>> straight = FollowedRing(np.array([b, a, [0.5, 2.0]]), [None] * 3, [-1, -1, -1])
+    >>> split_shared_chords([chord, straight], circles)
+    1
+    >>> split_shared_chords([chord], circles)
+    0
+    """
+    if not rings:
+        return 0
+    start = np.vstack([ring.xy for ring in rings])
+    stop = np.vstack([np.roll(ring.xy, -1, axis=0) for ring in rings])
+    curve = np.concatenate([np.asarray(ring.curve, dtype=np.int64) for ring in rings])
+    # Each piece by its two ends in a fixed order, so that both directions give one key.
+    flip = (start[:, 0] > stop[:, 0]) | ((start[:, 0] == stop[:, 0]) & (start[:, 1] > stop[:, 1]))
+    first = np.where(flip[:, None], stop, start)
+    second = np.where(flip[:, None], start, stop)
+    _, segment = np.unique(np.hstack([first, second]), axis=0, return_inverse=True)
+    segment = segment.ravel()
+    kinds, at = np.unique(np.c_[segment, curve], axis=0, return_index=True)
+    curves_on = np.bincount(kinds[:, 0])
+    shared = (curves_on[kinds[:, 0]] > 1) & (kinds[:, 1] >= 0)
+    added = 0
+    for k, piece in zip(kinds[shared, 1].tolist(), at[shared].tolist(), strict=True):
+        circle = circles.items[k]
+        before = len(circle.anchors)
+        for point in circle.inner(first[piece], second[piece], pieces):
+            circle.anchor(point)
+        added += len(circle.anchors) - before
+    return added

@@ -88,10 +88,11 @@ def fragments(parts: list[Part], shapes: list[Any]) -> list[Any]:
 
 
 class SourcePieces:
-    """Every followed piece of every part's outline, to name parts near a point and patches."""
+    """Every followed piece of every part's outline: the parts near a point, patches, curves."""
 
     def __init__(self, parts: list[Part], rings: list[list[list[FollowedRing]]]) -> None:
         lines, owner, patch = [], [], []
+        self.curves: dict[tuple[float, float, float, float], int] = {}
         for i, part_rings in enumerate(rings):
             for polygon in part_rings:
                 for ring in polygon:
@@ -100,11 +101,24 @@ class SourcePieces:
                     lines += shapely.linestrings(np.stack([xy, ahead], axis=1)).tolist()
                     owner += [i] * len(xy)
                     patch += ring.patch
+                    for (ax, ay), (bx, by), k in zip(
+                        xy.tolist(), ahead.tolist(), ring.curve, strict=True
+                    ):
+                        self.curves[_piece_key(ax, ay, bx, by)] = k
         self.parts = parts
         self.lines = np.array(lines, dtype=object)
         self.owner = np.array(owner, dtype=np.int64)
         self.patch = patch
         self.tree = shapely.STRtree(self.lines)
+
+    def curve(self, p: Any, q: Any) -> int:
+        """The circle a followed piece from ``p`` to ``q`` is a chord of: its index, else -1.
+
+        -1 also for two points no outline joins by one piece (a piece of a straight edge
+        another outline crosses). Outlines share a piece only along one curve
+        (:func:`~blockmesh.domain.compose.circles.split_shared_chords`).
+        """
+        return self.curves.get(_piece_key(float(p[0]), float(p[1]), float(q[0]), float(q[1])), -1)
 
     def near(self, point: Any, distance: float) -> list[str]:
         """The labels of the parts whose outline passes within ``distance`` of ``point``."""
@@ -123,6 +137,11 @@ class SourcePieces:
                 out[k] = name
                 best[k] = int(self.owner[h])
         return out
+
+
+def _piece_key(ax: float, ay: float, bx: float, by: float) -> tuple[float, float, float, float]:
+    """A piece by its two ends, the same whichever way it is run."""
+    return (ax, ay, bx, by) if (ax, ay) <= (bx, by) else (bx, by, ax, ay)
 
 
 def report_filled_holes(
