@@ -21,15 +21,17 @@ How:
 4. **Relaxation** (Persson and Strang's DistMesh): every triangle edge is a spring that pushes
    when shorter than ``L`` (scaled so the springs fill the domain); the free points move, the
    triangulation is made again, until the points settle. The triangles come out nearly
-   equilateral, their sides close to ``L``.
+   equilateral, their sides close to ``L``; then their worst angles are raised
+   (:func:`~blockmesh.decompose.triangle_quality.raise_triangle_angles`: crowded fans at fixed
+   points merged, free points moved by angle, no side grown past its cap).
 5. **Conforming triangulation.** A chain segment missing from the Delaunay triangulation is
    split at its middle (on the curve) until every segment is an edge; the triangles are then
    labelled by region across the segments (a flood fill), those outside dropped.
 6. **Pentagons.** Every triangle becomes nine pentagons by the balanced template
    (:data:`~blockmesh.decompose.templates.BALANCED_SECTOR_WEIGHTS`), side nodes shared bit for
-   bit; then the decomposition's optimiser raises the worst angles
-   (:class:`~blockmesh.decompose.optimise.WorstAngle`), nodes on straight chains sliding along
-   them, nodes on curves moved onto the curve first and held.
+   bit; then the decomposition's optimiser raises the worst angles, sizes first and then angles
+   with every diameter capped (:class:`~blockmesh.decompose.sized_angles.SizedAngles`), nodes on
+   straight chains sliding along them, nodes on curves moved onto the curve first and held.
 7. **The guarantee.** Cells larger than the tolerance allows are found, their triangles get a
    point more, and steps 4-6 run again for them, until none is left.
 
@@ -52,11 +54,12 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
-from blockmesh.decompose.optimise import WorstAngle
 from blockmesh.decompose.outline import MAX_BLOCKS, Outline, _Chains
+from blockmesh.decompose.sized_angles import SizedAngles
 from blockmesh.decompose.sized_pentagons import _bend, _pentagons, _place_on_outline
 from blockmesh.decompose.sized_triangles import (
     _SPAN,
@@ -70,6 +73,7 @@ from blockmesh.decompose.sized_triangles import (
     _relax,
     _thin,
 )
+from blockmesh.decompose.triangle_quality import raise_triangle_angles
 from blockmesh.errors import DomainError, ResourceError, fmt_point
 from blockmesh.geometry.polygons import (
     COLLINEAR_SIN_TOL,
@@ -202,10 +206,13 @@ def sized_blocks(
     points = _thin(points, chains.n, domain, length)
     points = _fill(points, domain, length, span=_SPAN)
     points, scale = _relax(points, chains.n, domain, length, chains.segments())
-    free = points[chains.n :]
+    free = raise_triangle_angles(
+        chains.local(), points[chains.n :], partial(_inside, domain), length=length, merge=True
+    )
     optimised_once = False
     for _ in range(_REPAIRS):
         # 5-6. Conforming triangles, pentagons, worst angles raised.
+        free = raise_triangle_angles(chains.local(), free, partial(_inside, domain), length=length)
         local, triangles, region = _conforming(chains, free, frame)
         if 9 * len(triangles) > MAX_BLOCKS:
             raise ResourceError(
@@ -228,7 +235,7 @@ def sized_blocks(
             too_large = early
         else:
             checked = True
-            nodes = WorstAngle(target=_TARGET_ANGLE, sweeps=10, sizes=asked / frame.scale).place(
+            nodes = SizedAngles(target=_TARGET_ANGLE, sweeps=10, sizes=asked / frame.scale).place(
                 nodes, blocks, Freedom(fixed, slide)
             )
             optimised_once = True
