@@ -212,7 +212,6 @@ def sized_blocks(
     optimised_once = False
     for _ in range(_REPAIRS):
         # 5-6. Conforming triangles, pentagons, worst angles raised.
-        free = raise_triangle_angles(chains.local(), free, partial(_inside, domain), length=length)
         local, triangles, region = _conforming(chains, free, frame)
         if 9 * len(triangles) > MAX_BLOCKS:
             raise ResourceError(
@@ -262,7 +261,14 @@ def sized_blocks(
         points, _ = _relax(
             points, chains.n, domain, length, chains.segments(), 20, movable=movable, scale=scale
         )
-        free = points[chains.n :]
+        # The triangles' angles raised again where the points moved.
+        free = raise_triangle_angles(
+            chains.local(),
+            points[chains.n :],
+            partial(_inside, domain),
+            length=length,
+            movable=movable[chains.n :],
+        )
     else:
         # The repairs aim a little below the tolerance; the last check may hold it still (the
         # blocks, vertices and chains of that check are kept: a repair changes only points).

@@ -116,6 +116,7 @@ def raise_triangle_angles(
     *,
     length: Length | None = None,
     merge: bool = False,
+    movable: np.ndarray | None = None,
 ) -> np.ndarray:
     """New free points whose Delaunay triangles have better worst angles (see the module notes).
 
@@ -136,6 +137,9 @@ def raise_triangle_angles(
     merge : bool
         Merge crowded pairs of free points around fixed points first (the result then has
         fewer free points).
+    movable : ndarray (M,) bool, optional
+        Which free points may move (all by default; without ``merge``): after a local change,
+        only the points near it need smoothing again.
 
     Returns
     -------
@@ -144,22 +148,32 @@ def raise_triangle_angles(
 
     Notes
     -----
-    O((F + M) log(F + M)) per round (a Delaunay triangulation and whole-array steps).
+    O((F + M) log(F + M)) per round (a Delaunay triangulation and whole-array steps); the
+    steps cost O(k) for the k triangles around the points that try to move.
     """
     fixed = np.asarray(fixed, dtype=np.float64)
     free = np.array(free, dtype=np.float64)
     if not len(free):
         return free
+    mobile = np.ones(len(fixed) + len(free), dtype=bool)
+    mobile[: len(fixed)] = False
+    if movable is not None:
+        if merge:
+            raise ValueError("merge needs every free point movable")
+        mobile[len(fixed) :] = np.asarray(movable, dtype=bool)
+        if not mobile.any():
+            return free
     if merge:
         for _ in range(_MERGE_ROUNDS):
             merged = _merge_crowded(fixed, free, inside)
             if len(merged) == len(free):
                 break
             free = merged
+        mobile = np.r_[mobile[: len(fixed)], np.ones(len(free), dtype=bool)]
     for _ in range(_ROUNDS):
         points = np.vstack([fixed, free])
         wanted = None if length is None else np.asarray(length(points), dtype=np.float64)
-        moved = _smooth(points, len(fixed), _triangles(points, inside), inside, wanted)
+        moved = _smooth(points, mobile, _triangles(points, inside), inside, wanted)
         free = points[len(fixed) :]
         if not moved:
             break
@@ -212,83 +226,109 @@ def _longest(xy: np.ndarray) -> np.ndarray:
     return np.sqrt(np.max(d[..., 0] ** 2 + d[..., 1] ** 2, axis=-1))
 
 
+def _moved_min_angles(
+    corner: np.ndarray, p1: np.ndarray, p2: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Smallest angle (degrees) of triangles ``(corner, p1, p2)`` and their longest side squared.
+
+    ``-inf`` where a triangle is not counter-clockwise. The smallest angle is opposite the
+    shortest side and acute, so it is ``arcsin(2 area / (b c))`` with ``b, c`` the other two
+    sides: one arcsine per triangle, no angle at the other corners.
+    """
+    u, v = p1 - corner, p2 - corner
+    w = p2 - p1
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    lu = u[:, 0] ** 2 + u[:, 1] ** 2
+    lv = v[:, 0] ** 2 + v[:, 1] ** 2
+    lw = w[:, 0] ** 2 + w[:, 1] ** 2
+    shortest = np.minimum(np.minimum(lu, lv), lw)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sine = cross / np.sqrt(lu * lv * lw / shortest)
+    angle = np.degrees(np.arcsin(np.clip(np.nan_to_num(sine, nan=-1.0), -1.0, 1.0)))
+    return np.where(cross > 0, angle, -np.inf), np.maximum(np.maximum(lu, lv), lw)
+
+
 def _smooth(
     points: np.ndarray,
-    n_fixed: int,
+    mobile: np.ndarray,
     tri: np.ndarray,
     inside: Inside,
     wanted: np.ndarray | None = None,
 ) -> bool:
     """Steps of angle-based smoothing on a fixed triangulation, in place; whether any moved.
 
-    Only free points whose worst angle is below :data:`WORK_BELOW` try to move. With
-    ``wanted`` (the triangle side wanted at each point), no move makes a triangle's longest
-    side pass :data:`SIDE_CAP` times the smallest wanted at its corners (or its longest side
-    before, if longer).
+    Only ``mobile`` points whose worst angle is below :data:`WORK_BELOW` try to move, and
+    only the triangles around them are measured. With ``wanted`` (the triangle side wanted at
+    each point), no move makes a triangle's longest side pass :data:`SIDE_CAP` times the
+    smallest wanted at its corners (or its longest side before, if longer).
     """
-    cap = None if wanted is None else SIDE_CAP * wanted[tri].min(axis=1)
     n = len(points)
     corner = tri.ravel()
+    # The triangles around every mobile point, grouped by point (rows sorted by owner).
     order = np.argsort(corner, kind="stable")
     owner_all = corner[order]
-    sel = owner_all >= n_fixed
+    sel = mobile[owner_all]
     star_all, at_all, owner_all = order[sel] // 3, order[sel] % 3, owner_all[sel]
+    if not owner_all.size:
+        return False
     tie = ((np.arange(n, dtype=np.uint64) * np.uint64(2654435761)) % np.uint64(2**32)).astype(
         np.float64
     ) / 2**32
+    cap2 = None if wanted is None else (SIDE_CAP * wanted[tri].min(axis=1)) ** 2
     moved = False
     for _ in range(_STEPS):
-        q = _min_angles(points[tri])
+        p1 = points[tri[star_all, (at_all + 1) % 3]]
+        p2 = points[tri[star_all, (at_all + 2) % 3]]
+        q_all, longest_all = _moved_min_angles(points[owner_all], p1, p2)
+        starts = np.flatnonzero(np.r_[True, owner_all[1:] != owner_all[:-1]])
         node_q = np.full(n, np.inf)
-        np.minimum.at(node_q, owner_all, q[star_all])
-        active = node_q < WORK_BELOW
-        active[:n_fixed] = False
+        node_q[owner_all[starts]] = np.minimum.reduceat(q_all, starts)
+        active = mobile & (node_q < WORK_BELOW)
         rows_of = active[owner_all]
         if not rows_of.any():
             break
-        star, at, owner = star_all[rows_of], at_all[rows_of], owner_all[rows_of]
-        rows = np.arange(len(star))
-        xy = points[tri[star]]
-        star_cap = None if cap is None else np.maximum(cap[star], _longest(xy))
+        star, owner = star_all[rows_of], owner_all[rows_of]
+        p1, p2, q = p1[rows_of], p2[rows_of], q_all[rows_of]
+        group = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+        movers = owner[group]
         # The apex of the equilateral triangle over each star triangle's far side.
-        p1 = xy[rows, (at + 1) % 3]
-        p2 = xy[rows, (at + 2) % 3]
         d = p2 - p1
         apex = 0.5 * (p1 + p2) + _SQRT3_2 * np.column_stack([-d[:, 1], d[:, 0]])
-        mean = np.zeros((n, 2))
-        np.add.at(mean, owner, apex)
-        mean /= np.maximum(np.bincount(owner, minlength=n), 1)[:, None]
-        worst = q[star] <= node_q[owner]
-        worst_apex = points.copy()
-        worst_apex[owner[worst]] = apex[worst]
-        reach = np.zeros(n)
-        np.maximum.at(reach, owner, np.hypot(d[:, 0], d[:, 1]))
-        candidates = [points + f * (mean - points) for f in (1.0, 0.5, 0.25)]
-        candidates += [points + f * (worst_apex - points) for f in (0.5, 0.25, 0.1)]
-        candidates += [points + _SMALL_STEP * reach[:, None] * u for u in _DIRECTIONS]
-        gain = np.zeros(n)
-        best = points.copy()
+        size = np.diff(np.r_[group, len(owner)])
+        mean = np.add.reduceat(apex, group, axis=0) / size[:, None]
+        here = points[movers]
+        # The apex over the far side of the mover's worst triangle (its first, in a tie).
+        worst_row = np.flatnonzero(q <= node_q[owner])
+        worst_row = worst_row[np.r_[True, owner[worst_row[1:]] != owner[worst_row[:-1]]]]
+        worst_apex = apex[worst_row]
+        reach = np.sqrt(np.maximum.reduceat(d[:, 0] ** 2 + d[:, 1] ** 2, group))
+        limit2 = None if cap2 is None else np.maximum(cap2[star], longest_all[rows_of])
+        candidates = [here + f * (mean - here) for f in (1.0, 0.5, 0.25)]
+        candidates += [here + f * (worst_apex - here) for f in (0.5, 0.25, 0.1)]
+        candidates += [here + _SMALL_STEP * reach[:, None] * u for u in _DIRECTIONS]
+        slot = np.repeat(np.arange(len(movers)), size)
+        before = node_q[movers]
+        gain = np.zeros(len(movers))
+        best = here.copy()
         for candidate in candidates:
-            trial = xy.copy()
-            trial[rows, at] = candidate[owner]
-            score = _min_angles(trial)
-            if star_cap is not None:
-                score[_longest(trial) > star_cap] = -np.inf
-            after = np.full(n, np.inf)
-            np.minimum.at(after, owner, score)
+            score, longest2 = _moved_min_angles(candidate[slot], p1, p2)
+            if limit2 is not None:
+                score[longest2 > limit2] = -np.inf
+            after = np.minimum.reduceat(score, group)
             with np.errstate(invalid="ignore"):
-                better = np.flatnonzero(active & (after - node_q > gain + 1e-9))
+                better = np.flatnonzero(after - before > gain + 1e-9)
             better = better[inside(candidate[better])]
-            gain[better] = after[better] - node_q[better]
+            gain[better] = after[better] - before[better]
             best[better] = candidate[better]
         want = gain > 1e-6
         if not want.any():
             break
         # An independent set: in every triangle, only its worst point that wants to move.
-        priority = np.where(want, -node_q + 1e-3 * tie, -np.inf)
+        priority = np.full(n, -np.inf)
+        priority[movers[want]] = -before[want] + 1e-3 * tie[movers[want]]
         top = np.full(n, -np.inf)
         np.maximum.at(top, corner, np.repeat(priority[tri].max(axis=1), 3))
-        go = want & (priority >= top)
-        points[go] = best[go]
+        go = want & (priority[movers] >= top[movers])
+        points[movers[go]] = best[go]
         moved = True
     return moved

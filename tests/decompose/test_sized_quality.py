@@ -129,7 +129,8 @@ def test_with_the_side_wanted_no_triangle_grows_past_the_cap(seed, side):
     before = _longest(points[tri])
     worst_before = _min_angles(points[tri]).min()
     wanted = np.full(len(points), side)
-    _smooth(points, len(fixed), tri, unit_square, wanted)  # moves the points in place
+    mobile = np.arange(len(points)) >= len(fixed)
+    _smooth(points, mobile, tri, unit_square, wanted)  # moves the points in place
     after = _longest(points[tri])
     # On the triangulation it was given, no triangle passes the cap (or its length before),
     # none folds, and the worst angle is no worse.
