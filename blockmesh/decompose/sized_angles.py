@@ -7,7 +7,8 @@ within the size guarantee, but it leaves worst angles a few degrees below those 
 had. :class:`SizedAngles` runs it, then runs the optimiser again on angles alone, with each
 block's diameter capped at :data:`SIZE_CAP` times its size (or where it already is, if larger):
 the worst angles rise again and no block grows past the cap, so the guarantee still holds
-without more blocks.
+without more blocks. The second pass works only where angles are low (the nodes of the blocks
+scoring below 44 degrees and of the blocks around them), so it costs a fraction of the first.
 
 Examples
 --------
@@ -30,7 +31,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from blockmesh.decompose.optimise import WorstAngle, improve_angles
+from blockmesh.decompose.optimise import WorstAngle, _block_scores, improve_angles
 from blockmesh.refinement.placement import Freedom, Placement
 from blockmesh.sizing.measure import cell_diameters
 
@@ -41,6 +42,10 @@ __all__ = ["SIZE_CAP", "SizedAngles"]
 SIZE_CAP = 1.46
 #: The second pass works on nodes whose worst corner scores below this (degrees).
 _ANGLE_TARGET = 50.0
+#: ... among the nodes of the blocks scoring below this (degrees) and of the blocks around
+#: them: the worst angles are raised where they are, at a tenth of the time of every node below
+#: the target (10^5 blocks: 3,700 to 12,700 nodes against 110,000).
+_FOCUS_BELOW = 44.0
 
 
 @dataclass(frozen=True)
@@ -67,10 +72,16 @@ class SizedAngles(Placement):
         if self.sizes is None:
             return first
         limits = np.maximum(SIZE_CAP * np.asarray(self.sizes), cell_diameters(first, cells))
+        cells = np.asarray(cells)
+        # Only where angles are low: the nodes of the blocks scoring below _FOCUS_BELOW and of
+        # the blocks around those nodes (room to move); every other node is held.
+        focus = np.zeros(len(first), dtype=bool)
+        focus[cells[_block_scores(first, cells) < _FOCUS_BELOW].ravel()] = True
+        focus[cells[np.any(focus[cells], axis=1)].ravel()] = True
         return improve_angles(
             first,
             cells,
-            freedom.fixed,
+            np.asarray(freedom.fixed) | ~focus,
             slide=freedom.slide,
             target=max(_ANGLE_TARGET, self.target),
             sweeps=self.sweeps,
