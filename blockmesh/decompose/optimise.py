@@ -211,7 +211,8 @@ class WorstAngle(Placement):
     """The decomposition's optimiser as a node placement: :func:`improve_angles` on every node.
 
     With ``sizes`` (the diameter asked of each cell), cells beyond 1.3 times their size count as
-    bad corners do (see :func:`improve_angles`).
+    bad corners do; with ``limits`` (the largest diameter allowed of each cell), no cell grows
+    past it (see :func:`improve_angles`).
 
     Examples
     --------
@@ -228,6 +229,7 @@ class WorstAngle(Placement):
     target: float = 38.0
     sweeps: int = 5
     sizes: np.ndarray | None = None
+    limits: np.ndarray | None = None
     name: ClassVar[str] = "worst-angle"
     nested: ClassVar[bool] = False
 
@@ -241,6 +243,7 @@ class WorstAngle(Placement):
             target=self.target,
             sweeps=self.sweeps,
             sizes=self.sizes,
+            limits=self.limits,
         )
 
 

@@ -58,6 +58,7 @@ from functools import partial
 
 import numpy as np
 
+from blockmesh.decompose.decomposition import _check_representable
 from blockmesh.decompose.outline import MAX_BLOCKS, Outline, _Chains
 from blockmesh.decompose.sized_angles import SizedAngles
 from blockmesh.decompose.sized_pentagons import _bend, _pentagons, _place_on_outline
@@ -76,8 +77,6 @@ from blockmesh.decompose.sized_triangles import (
 from blockmesh.decompose.triangle_quality import raise_triangle_angles
 from blockmesh.errors import DomainError, ResourceError, fmt_point
 from blockmesh.geometry.polygons import (
-    COLLINEAR_SIN_TOL,
-    corner_sines,
     interior_angles,
     local_frame,
 )
@@ -282,7 +281,13 @@ def sized_blocks(
                 "may have features smaller than the sizes there, or the sizes asked fall "
                 "towards 0 there"
             )
-    _check_convex(vertices, blocks, frame)
+    _check_representable(
+        vertices,
+        blocks,
+        frame,
+        "the domain at the sizes asked",
+        "move the domain near the origin or ask larger sizes",
+    )
     triangle_of = pieces.piece
     return SizedBlocks(
         vertices=vertices,
@@ -327,16 +332,3 @@ def _repair(
     if long.any():
         chains.split(segment[long])
     return free
-
-
-def _check_convex(vertices: np.ndarray, blocks: np.ndarray, frame) -> None:
-    """Blocks that rounding to the caller's coordinates made non-convex: too small for doubles."""
-    sines = corner_sines(vertices[blocks])
-    bad = np.flatnonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1))
-    if bad.size:
-        size = float(np.ptp(vertices[blocks[bad[0]]], axis=0).max())
-        raise DomainError(
-            f"the sizes asked are too small for where the domain sits: blocks about {size:.3g} "
-            f"across at coordinates near {float(np.max(np.abs(frame.origin))):.3g} fold when "
-            "rounded to double precision; move the domain near the origin or ask larger sizes"
-        )

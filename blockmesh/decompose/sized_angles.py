@@ -31,7 +31,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from blockmesh.decompose.optimise import WorstAngle, _block_scores, improve_angles
+from blockmesh.decompose.optimise import WorstAngle, _block_scores
 from blockmesh.refinement.placement import Freedom, Placement
 from blockmesh.sizing.measure import cell_diameters
 
@@ -78,12 +78,6 @@ class SizedAngles(Placement):
         focus = np.zeros(len(first), dtype=bool)
         focus[cells[_block_scores(first, cells) < _FOCUS_BELOW].ravel()] = True
         focus[cells[np.any(focus[cells], axis=1)].ravel()] = True
-        return improve_angles(
-            first,
-            cells,
-            np.asarray(freedom.fixed) | ~focus,
-            slide=freedom.slide,
-            target=max(_ANGLE_TARGET, self.target),
-            sweeps=self.sweeps,
-            limits=limits,
-        )
+        held = Freedom(np.asarray(freedom.fixed) | ~focus, freedom.slide)
+        second = WorstAngle(max(_ANGLE_TARGET, self.target), self.sweeps, limits=limits)
+        return second.place(first, cells, held)
