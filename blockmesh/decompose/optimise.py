@@ -216,13 +216,19 @@ class WorstAngle(Placement):
 
     Examples
     --------
+    With every cell's diameter held within a tenth of what it was:
+
     >>> import numpy as np
     >>> from blockmesh.decompose.templates import ring_hub_faces, ring_hub_nodes
-    >>> quad = np.array([[0, 0], [3, 0], [3, 1], [0, 1]], dtype=float)
+    >>> from blockmesh.sizing.measure import cell_diameters
+    >>> quad = np.array([[0, 0], [2, 0], [2, 1], [0, 1]], dtype=float)
     >>> nodes, faces = ring_hub_nodes(quad[None])[0], ring_hub_faces(4)
-    >>> fixed = np.arange(len(nodes)) < 12
-    >>> moved = WorstAngle().place(nodes, faces, Freedom(fixed, np.zeros_like(nodes)))
-    >>> bool(worst_score(moved, faces) > worst_score(nodes, faces) + 5)
+    >>> held = Freedom(np.arange(len(nodes)) < 12, np.zeros_like(nodes))
+    >>> limits = 1.1 * cell_diameters(nodes, faces)
+    >>> moved = WorstAngle(target=60.0, limits=limits).place(nodes, faces, held)
+    >>> bool(worst_score(moved, faces) > worst_score(nodes, faces) + 20)
+    True
+    >>> bool(np.all(cell_diameters(moved, faces) <= limits))
     True
     """
 
