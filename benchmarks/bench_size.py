@@ -99,6 +99,87 @@ def _gmsh_outline(domain) -> None:
     geo.synchronize()
 
 
+def _gmsh_regions(domain) -> None:
+    """A composite domain's regions as gmsh plane surfaces sharing their interface curves.
+
+    Every edge between two regions, and every boundary edge, is one gmsh curve (arcs as circle
+    arcs) used by the surfaces on both sides, so gmsh's mesh conforms across the interfaces as
+    ours does (what gmsh's ``fragment`` makes of overlapping parts).
+    """
+    import gmsh
+    import shapely
+
+    geo = gmsh.model.geo
+    n = len(domain.vertices)
+    names = list(domain.regions)
+    region_of = np.full(domain.n_blocks, -1, dtype=np.int64)
+    for r, name in enumerate(names):
+        region_of[np.asarray(domain.regions[name])] = r
+    tail = domain.blocks.ravel()
+    head = np.roll(domain.blocks, -1, axis=1).ravel()
+    region = np.repeat(region_of, domain.blocks.shape[1])
+    count = len(names)
+    own = (tail * n + head) * count + region
+    # A directed block edge is on its region's outline when its reverse is not in the region.
+    on = ~np.isin((head * n + tail) * count + region, own)
+    points: dict[int, int] = {}
+    curves: dict[tuple[int, int], int] = {}
+
+    def point(v: int) -> int:
+        if v not in points:
+            x, y = domain.vertices[v]
+            points[v] = geo.addPoint(float(x), float(y), 0.0)
+        return points[v]
+
+    def curve(a: int, b: int) -> int:
+        low, high = min(a, b), max(a, b)
+        if (low, high) not in curves:
+            shape = domain.curves.get((low, high)) or domain.curves.get((high, low))
+            if isinstance(shape, Arc):
+                cx, cy = shape.centre_point
+                centre = geo.addPoint(cx, cy, 0.0)
+                curves[low, high] = geo.addCircleArc(point(low), centre, point(high))
+            else:
+                curves[low, high] = geo.addLine(point(low), point(high))
+        tag = curves[low, high]
+        return tag if a == low else -tag
+
+    for r in range(count):
+        sel = on & (region == r)
+        ahead = dict(zip(tail[sel].tolist(), head[sel].tolist(), strict=True))
+        loops = []
+        while ahead:
+            start = next(iter(ahead))
+            ring, v = [start], ahead.pop(start)
+            while v != start:
+                ring.append(v)
+                v = ahead.pop(v)
+            loops.append(ring)
+        # Counter-clockwise loops bound the region's pieces, clockwise ones are their holes.
+        area = [float(signed_area(domain.vertices[ring][None])[0]) for ring in loops]
+        outer = [k for k in range(len(loops)) if area[k] > 0]
+        holes: dict[int, list[int]] = {k: [] for k in outer}
+        for k in range(len(loops)):
+            if area[k] < 0:
+                inside = shapely.Point(domain.vertices[loops[k][0]])
+                around = [
+                    j for j in outer if shapely.Polygon(domain.vertices[loops[j]]).covers(inside)
+                ]
+                holes[min(around, key=lambda j: area[j])].append(k)
+        for k in outer:
+            tags = [
+                geo.addCurveLoop(
+                    [
+                        curve(a, b)
+                        for a, b in zip(loops[j], loops[j][1:] + loops[j][:1], strict=True)
+                    ]
+                )
+                for j in [k, *holes[k]]
+            ]
+            geo.addPlaneSurface(tags)
+    geo.synchronize()
+
+
 def domain_loops(domain) -> list[np.ndarray]:
     loops, current, start = [], [], None
     for a, b in domain.boundary_edges.tolist():
@@ -134,7 +215,9 @@ def gmsh_mesh(domain, field, scale: float, quads: bool, polygon: np.ndarray | No
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)
         gmsh.model.add("d")
-        if polygon is None:
+        if polygon is None and len(domain.regions) > 1:
+            _gmsh_regions(domain)
+        elif polygon is None:
             _gmsh_outline(domain)
         else:
             _gmsh_polygon(polygon)
@@ -193,6 +276,7 @@ def quality(page: Page, quick: bool) -> None:
         ("l-shape", {"default": 0.1, "near": [{"point": [1, 1], "size": 0.005, "growth": 1.2}]}),
     ]
     wins = above = total = 0
+    losses: list[str] = []
     for name, spec in cases:
         domain = blockmesh.load_domain(name)
         if spec == "sqrt(A)/40":
@@ -212,6 +296,8 @@ def quality(page: Page, quick: bool) -> None:
         sharpest = sharpest_corner(domain)
         total += 1
         wins += ours["worst"] >= tri["worst"]
+        if ours["worst"] < tri["worst"]:
+            losses.append(f"{name} ({label}: {ours['worst']:.1f} against {tri['worst']:.1f})")
         above += ours["worst"] >= 25 or sharpest < 25
         table.row(
             name, label, sized.n_blocks,
@@ -226,7 +312,15 @@ def quality(page: Page, quick: bool) -> None:
         "(diameter^2 / area over the regular polygon's: 1 is regular), processor seconds (gmsh: "
         "its cell count in brackets). 'corner' is the domain's sharpest corner (a cell there "
         f"cannot do better). Worst angle >= 25 degrees (or the domain's corner sharper): "
-        f"{above} of {total}; >= gmsh triangles' worst angle: {wins} of {total}."
+        f"{above} of {total}; >= gmsh triangles' worst angle: {wins} of {total}. "
+        "Composite domains (several regions): gmsh meshes each region as a surface, the "
+        "surfaces sharing the interface curves (as gmsh's fragment makes them), so both meshes "
+        "conform across the interfaces. "
+        + (
+            "The pentagons' worst angle is below gmsh triangles' on: " + "; ".join(losses) + "."
+            if losses
+            else "The pentagons' worst angle is at least gmsh triangles' on every row."
+        )
     )
 
 

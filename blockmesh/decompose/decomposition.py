@@ -102,9 +102,16 @@ def _to_global(d: Decomposition, rings: list[np.ndarray], frame: LocalFrame) -> 
 
 
 def _check_representable(
-    vertices: np.ndarray, blocks: np.ndarray, frame: LocalFrame, what: str = "the polygon"
+    vertices: np.ndarray,
+    blocks: np.ndarray,
+    frame: LocalFrame,
+    what: str = "the polygon",
+    advice: str = "move the domain near the origin (or use other units)",
 ) -> None:
-    """Blocks that rounding to the global coordinates made non-convex: too small for doubles."""
+    """Blocks that rounding to the global coordinates made non-convex: too small for doubles.
+
+    ``what`` names what was decomposed and ``advice`` ends the message (what to do instead).
+    """
     sines = corner_sines(vertices[blocks])
     bad = np.flatnonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1))
     if bad.size:
@@ -113,6 +120,5 @@ def _check_representable(
             f"{what} is too small for where it sits to be decomposed in double precision: "
             f"its blocks are about {size:.3g} across "
             f"at coordinates near {float(np.max(np.abs(frame.origin))):.3g}, where doubles are "
-            f"only {frame.ulp():.3g} apart, and rounding folds {bad.size} of them; move the "
-            "domain near the origin (or use other units)"
+            f"only {frame.ulp():.3g} apart, and rounding folds {bad.size} of them; {advice}"
         )

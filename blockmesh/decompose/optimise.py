@@ -59,14 +59,19 @@ _PAIRS = np.triu_indices(5, 1)
 
 
 def _block_scores(
-    points: np.ndarray, blocks: np.ndarray, sizes: np.ndarray | None = None, target: float = 38.0
+    points: np.ndarray,
+    blocks: np.ndarray,
+    sizes: np.ndarray | None = None,
+    target: float = 38.0,
+    limits: np.ndarray | None = None,
 ) -> np.ndarray:
     """Score of each block; ``-inf`` where a corner turns by less than the sine margin.
 
     The score needs only the sharpest and the flattest corner, so it is computed from their
     cosines: two arccosines per block instead of five angles. With ``sizes`` (the size asked
     of each block), a block whose diameter passes ``_SIZE_OK`` times its size scores lower too
-    (see ``_SIZE_SCORE``).
+    (see ``_SIZE_SCORE``). With ``limits`` (the largest diameter allowed of each block), a
+    block beyond its limit scores ``-inf``, as a folded one does.
     """
     xy = points[blocks]
     incoming = xy - xy[:, [4, 0, 1, 2, 3]]
@@ -83,9 +88,13 @@ def _block_scores(
     sharpest = np.degrees(np.arccos(np.clip(np.nanmax(cosine, axis=1), -1.0, 1.0)))
     flattest = np.degrees(np.arccos(np.clip(np.nanmin(cosine, axis=1), -1.0, 1.0)))
     score = np.minimum(sharpest, _FLAT_WEIGHT * (180.0 - flattest))
-    if sizes is not None:
+    if sizes is not None or limits is not None:
         diff = xy[:, _PAIRS[0]] - xy[:, _PAIRS[1]]
-        ratio = np.sqrt(np.max(diff[..., 0] ** 2 + diff[..., 1] ** 2, axis=1)) / sizes
+        diameter = np.sqrt(np.max(diff[..., 0] ** 2 + diff[..., 1] ** 2, axis=1))
+    if limits is not None:
+        convex &= diameter <= limits
+    if sizes is not None:
+        ratio = diameter / sizes
         falling = (target - _SIZE_SCORE) / (_SIZE_LIMIT - _SIZE_OK)
         size_score = np.where(
             ratio <= _SIZE_LIMIT,
@@ -110,6 +119,7 @@ def improve_angles(
     target: float = 38.0,
     sweeps: int = 5,
     sizes: np.ndarray | None = None,
+    limits: np.ndarray | None = None,
 ) -> np.ndarray:
     """Return new node positions with a better worst angle around every moved node.
 
@@ -131,6 +141,9 @@ def improve_angles(
     sizes : ndarray (B,), optional
         The diameter asked of each block: blocks larger than 1.35 times it score lower (as a
         26-degree corner at 1.5 times), so nodes move to shrink them while the angles allow.
+    limits : ndarray (B,), optional
+        The largest diameter allowed of each block: no node moves so that a block passes it
+        (a block already beyond it keeps its nodes where they are).
 
     Returns
     -------
@@ -148,7 +161,8 @@ def improve_angles(
     if not len(blocks):
         return points
     sizes = None if sizes is None else np.asarray(sizes, dtype=np.float64)
-    score = _block_scores(points, blocks, sizes, target)
+    limits = None if limits is None else np.asarray(limits, dtype=np.float64)
+    score = _block_scores(points, blocks, sizes, target, limits)
     corner_of = blocks.ravel()
     node_score = np.full(n, np.inf)
     np.minimum.at(node_score, corner_of, np.repeat(score, 5))
@@ -179,7 +193,7 @@ def improve_angles(
         for nodes in _independent_sets(blocks, active, block_of, first, count, n):
             if _sweep_set(
                 points, blocks, score, nodes, block_of, first, count, dst, near_from, degree,
-                direction, step_size, failures, sizes, target,
+                direction, step_size, failures, sizes, target, limits,
             ):  # fmt: skip
                 improved = True
         if not improved:
@@ -197,23 +211,31 @@ class WorstAngle(Placement):
     """The decomposition's optimiser as a node placement: :func:`improve_angles` on every node.
 
     With ``sizes`` (the diameter asked of each cell), cells beyond 1.3 times their size count as
-    bad corners do (see :func:`improve_angles`).
+    bad corners do; with ``limits`` (the largest diameter allowed of each cell), no cell grows
+    past it (see :func:`improve_angles`).
 
     Examples
     --------
+    With every cell's diameter held within a tenth of what it was:
+
     >>> import numpy as np
     >>> from blockmesh.decompose.templates import ring_hub_faces, ring_hub_nodes
-    >>> quad = np.array([[0, 0], [3, 0], [3, 1], [0, 1]], dtype=float)
+    >>> from blockmesh.sizing.measure import cell_diameters
+    >>> quad = np.array([[0, 0], [2, 0], [2, 1], [0, 1]], dtype=float)
     >>> nodes, faces = ring_hub_nodes(quad[None])[0], ring_hub_faces(4)
-    >>> fixed = np.arange(len(nodes)) < 12
-    >>> moved = WorstAngle().place(nodes, faces, Freedom(fixed, np.zeros_like(nodes)))
-    >>> bool(worst_score(moved, faces) > worst_score(nodes, faces) + 5)
+    >>> held = Freedom(np.arange(len(nodes)) < 12, np.zeros_like(nodes))
+    >>> limits = 1.1 * cell_diameters(nodes, faces)
+    >>> moved = WorstAngle(target=60.0, limits=limits).place(nodes, faces, held)
+    >>> bool(worst_score(moved, faces) > worst_score(nodes, faces) + 20)
+    True
+    >>> bool(np.all(cell_diameters(moved, faces) <= limits))
     True
     """
 
     target: float = 38.0
     sweeps: int = 5
     sizes: np.ndarray | None = None
+    limits: np.ndarray | None = None
     name: ClassVar[str] = "worst-angle"
     nested: ClassVar[bool] = False
 
@@ -227,12 +249,13 @@ class WorstAngle(Placement):
             target=self.target,
             sweeps=self.sweeps,
             sizes=self.sizes,
+            limits=self.limits,
         )
 
 
 def _sweep_set(
     points, blocks, score, nodes, block_of, first, count, dst, near_from, degree, direction,
-    step_size, failures, sizes=None, target=38.0,
+    step_size, failures, sizes=None, target=38.0, limits=None,
 ) -> bool:  # fmt: skip
     """Try every candidate move of an independent set of nodes; keep the best improving one."""
     slots = _ranges(first[nodes], count[nodes])
@@ -262,7 +285,11 @@ def _sweep_set(
             move = np.where(sliding[:, None], np.sum(move * d, axis=1)[:, None] * d, move)
         points[nodes] = start + move
         trial = _block_scores(
-            points, blocks[around], None if sizes is None else sizes[around], target
+            points,
+            blocks[around],
+            None if sizes is None else sizes[around],
+            target,
+            None if limits is None else limits[around],
         )
         after = np.full(nodes.size, np.inf)
         np.minimum.at(after, owner, trial)

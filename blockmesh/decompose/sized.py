@@ -21,15 +21,17 @@ How:
 4. **Relaxation** (Persson and Strang's DistMesh): every triangle edge is a spring that pushes
    when shorter than ``L`` (scaled so the springs fill the domain); the free points move, the
    triangulation is made again, until the points settle. The triangles come out nearly
-   equilateral, their sides close to ``L``.
+   equilateral, their sides close to ``L``; then their worst angles are raised
+   (:func:`~blockmesh.decompose.triangle_quality.raise_triangle_angles`: crowded fans at fixed
+   points merged, free points moved by angle, no side grown past its cap).
 5. **Conforming triangulation.** A chain segment missing from the Delaunay triangulation is
    split at its middle (on the curve) until every segment is an edge; the triangles are then
    labelled by region across the segments (a flood fill), those outside dropped.
 6. **Pentagons.** Every triangle becomes nine pentagons by the balanced template
    (:data:`~blockmesh.decompose.templates.BALANCED_SECTOR_WEIGHTS`), side nodes shared bit for
-   bit; then the decomposition's optimiser raises the worst angles
-   (:class:`~blockmesh.decompose.optimise.WorstAngle`), nodes on straight chains sliding along
-   them, nodes on curves moved onto the curve first and held.
+   bit; then the decomposition's optimiser raises the worst angles, sizes first and then angles
+   with every diameter capped (:class:`~blockmesh.decompose.sized_angles.SizedAngles`), nodes on
+   straight chains sliding along them, nodes on curves moved onto the curve first and held.
 7. **The guarantee.** Cells larger than the tolerance allows are found, their triangles get a
    point more, and steps 4-6 run again for them, until none is left.
 
@@ -52,11 +54,13 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
-from blockmesh.decompose.optimise import WorstAngle
+from blockmesh.decompose.decomposition import _check_representable
 from blockmesh.decompose.outline import MAX_BLOCKS, Outline, _Chains
+from blockmesh.decompose.sized_angles import SizedAngles
 from blockmesh.decompose.sized_pentagons import _bend, _pentagons, _place_on_outline
 from blockmesh.decompose.sized_triangles import (
     _SPAN,
@@ -70,10 +74,9 @@ from blockmesh.decompose.sized_triangles import (
     _relax,
     _thin,
 )
+from blockmesh.decompose.triangle_quality import raise_triangle_angles
 from blockmesh.errors import DomainError, ResourceError, fmt_point
 from blockmesh.geometry.polygons import (
-    COLLINEAR_SIN_TOL,
-    corner_sines,
     interior_angles,
     local_frame,
 )
@@ -202,7 +205,9 @@ def sized_blocks(
     points = _thin(points, chains.n, domain, length)
     points = _fill(points, domain, length, span=_SPAN)
     points, scale = _relax(points, chains.n, domain, length, chains.segments())
-    free = points[chains.n :]
+    free = raise_triangle_angles(
+        chains.local(), points[chains.n :], partial(_inside, domain), length=length, merge=True
+    )
     optimised_once = False
     for _ in range(_REPAIRS):
         # 5-6. Conforming triangles, pentagons, worst angles raised.
@@ -228,7 +233,7 @@ def sized_blocks(
             too_large = early
         else:
             checked = True
-            nodes = WorstAngle(target=_TARGET_ANGLE, sweeps=10, sizes=asked / frame.scale).place(
+            nodes = SizedAngles(target=_TARGET_ANGLE, sweeps=10, sizes=asked / frame.scale).place(
                 nodes, blocks, Freedom(fixed, slide)
             )
             optimised_once = True
@@ -255,7 +260,14 @@ def sized_blocks(
         points, _ = _relax(
             points, chains.n, domain, length, chains.segments(), 20, movable=movable, scale=scale
         )
-        free = points[chains.n :]
+        # The triangles' angles raised again where the points moved.
+        free = raise_triangle_angles(
+            chains.local(),
+            points[chains.n :],
+            partial(_inside, domain),
+            length=length,
+            movable=movable[chains.n :],
+        )
     else:
         # The repairs aim a little below the tolerance; the last check may hold it still (the
         # blocks, vertices and chains of that check are kept: a repair changes only points).
@@ -269,7 +281,13 @@ def sized_blocks(
                 "may have features smaller than the sizes there, or the sizes asked fall "
                 "towards 0 there"
             )
-    _check_convex(vertices, blocks, frame)
+    _check_representable(
+        vertices,
+        blocks,
+        frame,
+        "the domain at the sizes asked",
+        "move the domain near the origin or ask larger sizes",
+    )
     triangle_of = pieces.piece
     return SizedBlocks(
         vertices=vertices,
@@ -314,16 +332,3 @@ def _repair(
     if long.any():
         chains.split(segment[long])
     return free
-
-
-def _check_convex(vertices: np.ndarray, blocks: np.ndarray, frame) -> None:
-    """Blocks that rounding to the caller's coordinates made non-convex: too small for doubles."""
-    sines = corner_sines(vertices[blocks])
-    bad = np.flatnonzero(~np.all(sines > COLLINEAR_SIN_TOL, axis=1))
-    if bad.size:
-        size = float(np.ptp(vertices[blocks[bad[0]]], axis=0).max())
-        raise DomainError(
-            f"the sizes asked are too small for where the domain sits: blocks about {size:.3g} "
-            f"across at coordinates near {float(np.max(np.abs(frame.origin))):.3g} fold when "
-            "rounded to double precision; move the domain near the origin or ask larger sizes"
-        )
