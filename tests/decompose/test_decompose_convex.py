@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 import shapely
 from helpers import examples
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 import blockmesh.decompose.convex as decompose
 import blockmesh.decompose.templates as templates
-from blockmesh.decompose import Decomposition, decompose_convex_polygon
+from blockmesh.decompose import Decomposition, decompose_convex_polygon, decompose_polygon
 from blockmesh.errors import DomainError
 from blockmesh.geometry import (
     corner_sines,
@@ -31,6 +31,18 @@ from blockmesh.geometry import (
 
 REL = 1e-12
 PAPER_HEXAGON = np.array([[0.1, 0], [0.7, 0.2], [1, 0.5], [0.75, 0.85], [0.5, 1], [0, 0.25]])
+#: Spacings of doubles (at the polygon's largest coordinate) by which every corner of a polygon
+#: stands clear of the chord of its neighbours, above which no layout is refused as too thin for
+#: where it sits: block corners must stand 16 spacings clear of theirs (STRAIGHT_ULPS), and they
+#: stand at least 0.0075 of the polygon's clearance off in the triangle template (its corners'
+#: smallest area share; 0.05 measured), 0.06 measured in the quadrilateral template and 0.5 in
+#: the chord and star layouts (a midpoint halves a corner's clearance).
+CLEAR = 3000
+#: Sliver triangles from the unit circle (angles 0, 1e-9 and 1e-5): 1e-5 long, 5e-15 wide, so
+#: 22 spacings of doubles wide at x = 1 and 11 at x = 2.5. Their blocks stood 2 spacings off
+#: their chords (a mesh reads that as a straight vertex, a hanging node) and, at 2.5, one folded.
+SLIVER_AT_1 = np.array([[1.0, 0.0], [1.0, 1e-09], [0.99999999995, 9.999999999833334e-06]])
+SLIVER_AT_2_5 = np.array([[2.5, 0.0], [2.5, 1e-09], [2.49999999995, 9.999999999833334e-06]])
 
 
 def regular(n: int) -> np.ndarray:
@@ -42,6 +54,15 @@ def meets_contract(polygon: np.ndarray) -> bool:
     """Counter-clockwise, strictly convex, no edge shorter than 1e-11 times the diameter."""
     edges = np.hypot(*(np.roll(polygon, -1, axis=0) - polygon).T)
     return bool(is_strictly_convex(polygon)) and edges.min() > 1e-11 * polygon_diameter(polygon)
+
+
+def clearance(polygon: np.ndarray) -> float:
+    """Smallest distance of a corner from the chord of its neighbours, in spacings of doubles."""
+    inc = polygon - np.roll(polygon, 1, axis=0)
+    out = np.roll(polygon, -1, axis=0) - polygon
+    cross = np.abs(inc[:, 0] * out[:, 1] - inc[:, 1] * out[:, 0])
+    off = cross / np.hypot(*(inc + out).T)
+    return float(off.min() / np.spacing(np.abs(polygon).max()))
 
 
 def expected_blocks(n: int) -> int:
@@ -166,16 +187,46 @@ def thin_quads(draw: st.DrawFn) -> np.ndarray:
 
 @settings(max_examples=examples(200))
 @given(ellipse_polygons())
+@example(SLIVER_AT_1)
+@example(SLIVER_AT_2_5)
 def test_random_convex_polygons_split_conformingly(polygon: np.ndarray) -> None:
-    if len(polygon) <= 4:
-        # Templates need a little room: a corner of sine 1e-12 (the contract's limit) can leave
-        # template corners below it (see test_too_thin_polygon_raises).
-        assume(corner_sines(polygon).min() > 1e-10)
-    # Called directly, the exact layouts work in the polygon's own coordinates: a polygon a
-    # millionth of its distance from the origin across is left to decompose_polygon, which
-    # moves it to a local frame first (a sliver triangle at (0.54, 0.84), 1e-9 across, failed).
-    assume(polygon_diameter(polygon) > 1e-6 * np.abs(polygon).max())
-    assert_valid(polygon, decompose_convex_polygon(polygon))
+    # Refused only with a DomainError, and only beyond the limits: templates need a little
+    # room, corners of sine 1e-12 (the contract's limit) can leave template corners below it
+    # (see test_too_thin_polygon_raises); and every layout works in the polygon's own
+    # coordinates, where a sliver far from the origin can be only a few spacings of doubles
+    # wide (its blocks' corners then cannot stand clear of their chords: CLEAR).
+    try:
+        d = decompose_convex_polygon(polygon)
+    except DomainError as error:
+        assert "too thin" in str(error)
+        template_limit = len(polygon) <= 4 and corner_sines(polygon).min() <= 1e-10
+        assert template_limit or clearance(polygon) <= CLEAR
+        return
+    assert_valid(polygon, d)
+
+
+@pytest.mark.parametrize("sliver", [SLIVER_AT_1, SLIVER_AT_2_5])
+def test_sliver_too_thin_for_where_it_sits(sliver: np.ndarray) -> None:
+    assert meets_contract(sliver) and corner_sines(sliver).min() > 1e-10
+    assert clearance(sliver) < 30
+    with pytest.raises(DomainError, match=r"too thin for where it sits.*\(vertex \d+\)"):
+        decompose_convex_polygon(sliver)
+    # The local frame does not help: the blocks must come back to where the sliver sits.
+    with pytest.raises(DomainError, match="too thin for where it sits"):
+        decompose_polygon([sliver])
+    # Near the origin the same sliver is 1e7 spacings wide and splits.
+    local = sliver - sliver[0]
+    assert clearance(local) > 1e6
+    assert_valid(local, decompose_convex_polygon(local))
+    d = decompose_polygon([local])
+    assert np.all(is_strictly_convex(d.vertices[d.blocks]))
+
+
+def test_many_corners_too_thin_for_where_they_sit() -> None:
+    # Beyond the chord programme the triangulation works in a local frame; its blocks are
+    # checked where the polygon sits (they came back with a corner 1.1 spacings off its chord).
+    with pytest.raises(DomainError, match="too thin for where it sits"):
+        decompose_convex_polygon(1.0 + regular(20) * [1e-7, 1e-14])
 
 
 @given(ellipse_polygons(6, 16))
