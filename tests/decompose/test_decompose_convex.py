@@ -143,7 +143,13 @@ def assert_valid(polygon: np.ndarray, d: Decomposition) -> None:
         off_line = np.abs(rel[:, 0] * (e - a)[1] - rel[:, 1] * (e - a)[0]) / np.hypot(*(e - a))
         assert np.all(off_line <= REL * scale + 8 * ulp)
 
-    # No hanging node: no vertex lies strictly inside an edge of a block it is not a corner of.
+    assert_no_hanging_node(polygon, v, b)
+
+
+def assert_no_hanging_node(polygon: np.ndarray, v: np.ndarray, b: np.ndarray) -> None:
+    """No vertex lies strictly inside an edge of a block it is not a corner of."""
+    ulp = np.finfo(np.float64).eps * np.abs(polygon).max()
+    edges = np.stack([b, np.roll(b, -1, axis=1)], axis=-1).reshape(-1, 2)
     p, q = v[edges[:, 0]], v[edges[:, 1]]
     seg = q - p
     rel = v[None, :, :] - p[:, None, :]
@@ -231,6 +237,29 @@ def test_sliver_too_thin_for_where_it_sits(sliver: np.ndarray) -> None:
     assert_valid(local, decompose_convex_polygon(local))
     d = decompose_polygon([local])
     assert np.all(is_strictly_convex(d.vertices[d.blocks]))
+
+
+@settings(max_examples=examples(100))
+@given(ellipse_polygons())
+def test_decompose_polygon_checks_blocks_where_the_polygon_sits(polygon: np.ndarray) -> None:
+    # decompose_polygon works in the polygon's local frame, where every sliver is wide; its
+    # blocks come back to where the polygon sits, and are refused only when too thin there.
+    try:
+        d = decompose_polygon([polygon])
+    except DomainError as error:
+        assert "too thin for where it sits" in str(error)
+        assert clearance(polygon) <= CLEAR
+        return
+    corners = d.vertices[d.blocks]
+    assert np.all(is_strictly_convex(corners))
+    assert d.vertices[: len(polygon)].tobytes() == polygon.tobytes()
+    assert_no_hanging_node(polygon, d.vertices, d.blocks)
+    inc = corners - np.roll(corners, 1, axis=1)
+    out = np.roll(corners, -1, axis=1) - corners
+    off = np.abs(inc[..., 0] * out[..., 1] - inc[..., 1] * out[..., 0]) / np.hypot(
+        *np.moveaxis(inc + out, -1, 0)
+    )
+    assert np.all(off > 16 * np.spacing(np.abs(corners).max(axis=(1, 2)))[:, None])
 
 
 def test_many_corners_too_thin_for_where_they_sit() -> None:
