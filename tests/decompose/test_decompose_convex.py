@@ -43,6 +43,10 @@ CLEAR = 3000
 #: their chords (a mesh reads that as a straight vertex, a hanging node) and, at 2.5, one folded.
 SLIVER_AT_1 = np.array([[1.0, 0.0], [1.0, 1e-09], [0.99999999995, 9.999999999833334e-06]])
 SLIVER_AT_2_5 = np.array([[2.5, 0.0], [2.5, 1e-09], [2.49999999995, 9.999999999833334e-06]])
+#: Another from the unit circle (angles 0, 1e-9, 1.19e-7), whose blocks fold when rounded back.
+SLIVER_FOLDS = np.column_stack(
+    [np.cos([0.0, 1e-9, 1.1920929e-07]), np.sin([0.0, 1e-9, 1.1920929e-07])]
+)
 #: A slab 1e-5 by 1e-14 at (1, 1): 45 spacings thick.
 SLAB_AT_1 = 1.0 + np.array([[0.0, 0.0], [1e-5, 0.0], [1e-5, 1e-14], [0.0, 1e-14]])
 
@@ -243,6 +247,8 @@ def test_sliver_too_thin_for_where_it_sits(sliver: np.ndarray) -> None:
 
 @settings(max_examples=examples(100))
 @given(ellipse_polygons())
+@example(SLIVER_AT_1)
+@example(SLIVER_FOLDS)
 def test_decompose_polygon_checks_blocks_where_the_polygon_sits(polygon: np.ndarray) -> None:
     # decompose_polygon works in the polygon's local frame, where every sliver is wide; its
     # blocks come back to where the polygon sits, and are refused only when too thin there
