@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from blockmesh.decompose.convex import CHORD_LIMIT, decompose_convex_polygon
+from blockmesh.decompose.convex import CHORD_LIMIT, check_corners_clear, decompose_convex_polygon
 from blockmesh.decompose.decomposition import Decomposition, in_local_frame
 from blockmesh.decompose.triangulate import DEFAULT_MIN_ANGLE
 from blockmesh.decompose.triangulated import triangulated_decomposition
@@ -141,7 +141,9 @@ def decompose_polygon(
         If the rings have more than :data:`MAX_CORNERS` corners.
     DomainError
         If double precision cannot hold the blocks where the polygon sits (blocks smaller than a
-        few units in the last place of its coordinates).
+        few units in the last place of its coordinates, or, for the exact convex layouts, a
+        block corner within a few of them of the chord of its neighbours:
+        :func:`~blockmesh.decompose.convex.check_corners_clear`).
     """
     rings = [np.asarray(r, dtype=np.float64) for r in rings]
     check_corner_count(sum(len(r) for r in rings))
@@ -160,7 +162,16 @@ def decompose_polygon(
                 decomposition = general
         return decomposition
 
-    return in_local_frame(rings, best)
+    # The routes work in the local frame, where a sliver is wide in units of the spacing of
+    # doubles; back where the polygon sits it may be a few spacings wide (a triangle 5e-15 wide
+    # at x = 1), its block corners too close to their chords to stay corners. The exact convex
+    # layouts are checked for that as decompose_convex_polygon checks them; the general route
+    # only for folds (in_local_frame): it keeps ring corners that may themselves sit within
+    # round-off of their chords (boolean operations rounded to a grid leave such corners).
+    decomposition = in_local_frame(rings, best)
+    if decomposition.layout != "triangulation":
+        check_corners_clear(decomposition.vertices, decomposition.blocks)
+    return decomposition
 
 
 def _strictly_convex(ring: np.ndarray) -> bool:

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 import shapely
 from helpers import examples
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 import blockmesh.decompose.convex as decompose
 import blockmesh.decompose.templates as templates
-from blockmesh.decompose import Decomposition, decompose_convex_polygon
+from blockmesh.decompose import Decomposition, decompose_convex_polygon, decompose_polygon
 from blockmesh.errors import DomainError
 from blockmesh.geometry import (
     corner_sines,
@@ -31,6 +31,24 @@ from blockmesh.geometry import (
 
 REL = 1e-12
 PAPER_HEXAGON = np.array([[0.1, 0], [0.7, 0.2], [1, 0.5], [0.75, 0.85], [0.5, 1], [0, 0.25]])
+#: Spacings of doubles (at the polygon's largest coordinate) by which every corner of a polygon
+#: stands clear of the chord of its neighbours, above which no layout is refused as too thin for
+#: where it sits: block corners must stand 16 spacings clear of theirs (STRAIGHT_ULPS), and they
+#: stand at least 0.0075 of the polygon's clearance off in the triangle template (its corners'
+#: smallest area share; 0.05 measured), 0.06 measured in the quadrilateral template and 0.5 in
+#: the chord and star layouts (a midpoint halves a corner's clearance).
+CLEAR = 3000
+#: Sliver triangles from the unit circle (angles 0, 1e-9 and 1e-5): 1e-5 long, 5e-15 wide, so
+#: 22 spacings of doubles wide at x = 1 and 11 at x = 2.5. Their blocks stood 2 spacings off
+#: their chords (a mesh reads that as a straight vertex, a hanging node) and, at 2.5, one folded.
+SLIVER_AT_1 = np.array([[1.0, 0.0], [1.0, 1e-09], [0.99999999995, 9.999999999833334e-06]])
+SLIVER_AT_2_5 = np.array([[2.5, 0.0], [2.5, 1e-09], [2.49999999995, 9.999999999833334e-06]])
+#: Another from the unit circle (angles 0, 1e-9, 1.19e-7), whose blocks fold when rounded back.
+SLIVER_FOLDS = np.column_stack(
+    [np.cos([0.0, 1e-9, 1.1920929e-07]), np.sin([0.0, 1e-9, 1.1920929e-07])]
+)
+#: A slab 1e-5 by 1e-14 at (1, 1): 45 spacings thick.
+SLAB_AT_1 = 1.0 + np.array([[0.0, 0.0], [1e-5, 0.0], [1e-5, 1e-14], [0.0, 1e-14]])
 
 
 def regular(n: int) -> np.ndarray:
@@ -42,6 +60,28 @@ def meets_contract(polygon: np.ndarray) -> bool:
     """Counter-clockwise, strictly convex, no edge shorter than 1e-11 times the diameter."""
     edges = np.hypot(*(np.roll(polygon, -1, axis=0) - polygon).T)
     return bool(is_strictly_convex(polygon)) and edges.min() > 1e-11 * polygon_diameter(polygon)
+
+
+def clearance(polygon: np.ndarray) -> float:
+    """Smallest distance of a corner from the chord of its neighbours, in spacings of doubles."""
+    inc = polygon - np.roll(polygon, 1, axis=0)
+    out = np.roll(polygon, -1, axis=0) - polygon
+    cross = np.abs(inc[:, 0] * out[:, 1] - inc[:, 1] * out[:, 0])
+    off = cross / np.hypot(*(inc + out).T)
+    return float(off.min() / np.spacing(np.abs(polygon).max()))
+
+
+def assume_template_room(polygon: np.ndarray) -> None:
+    """Triangles and quadrilaterals with corners of sine above 1e-10.
+
+    Templates need a little room: a corner of sine 1e-12 (the contract's limit) can leave
+    template corners below it (see test_too_thin_polygon_raises), or just above it, with blocks
+    so thin (a quadrilateral with a corner of sine 2.3e-12: blocks 1e-13 thick, 0.2 long) that
+    assert_valid's relative tolerance (1e-12 of an edge's length) takes a vertex for a hanging
+    node on the next block's edge.
+    """
+    if len(polygon) <= 4:
+        assume(corner_sines(polygon).min() > 1e-10)
 
 
 def expected_blocks(n: int) -> int:
@@ -109,7 +149,13 @@ def assert_valid(polygon: np.ndarray, d: Decomposition) -> None:
         off_line = np.abs(rel[:, 0] * (e - a)[1] - rel[:, 1] * (e - a)[0]) / np.hypot(*(e - a))
         assert np.all(off_line <= REL * scale + 8 * ulp)
 
-    # No hanging node: no vertex lies strictly inside an edge of a block it is not a corner of.
+    assert_no_hanging_node(polygon, v, b)
+
+
+def assert_no_hanging_node(polygon: np.ndarray, v: np.ndarray, b: np.ndarray) -> None:
+    """No vertex lies strictly inside an edge of a block it is not a corner of."""
+    ulp = np.finfo(np.float64).eps * np.abs(polygon).max()
+    edges = np.stack([b, np.roll(b, -1, axis=1)], axis=-1).reshape(-1, 2)
     p, q = v[edges[:, 0]], v[edges[:, 1]]
     seg = q - p
     rel = v[None, :, :] - p[:, None, :]
@@ -166,20 +212,77 @@ def thin_quads(draw: st.DrawFn) -> np.ndarray:
 
 @settings(max_examples=examples(200))
 @given(ellipse_polygons())
+@example(SLIVER_AT_1)
+@example(SLIVER_AT_2_5)
 def test_random_convex_polygons_split_conformingly(polygon: np.ndarray) -> None:
-    if len(polygon) <= 4:
-        # Templates need a little room: a corner of sine 1e-12 (the contract's limit) can leave
-        # template corners below it (see test_too_thin_polygon_raises).
-        assume(corner_sines(polygon).min() > 1e-10)
-    # Called directly, the exact layouts work in the polygon's own coordinates: a polygon a
-    # millionth of its distance from the origin across is left to decompose_polygon, which
-    # moves it to a local frame first (a sliver triangle at (0.54, 0.84), 1e-9 across, failed).
-    assume(polygon_diameter(polygon) > 1e-6 * np.abs(polygon).max())
-    assert_valid(polygon, decompose_convex_polygon(polygon))
+    assume_template_room(polygon)
+    # Every layout works in the polygon's own coordinates, where a sliver far from the origin
+    # can be only a few spacings of doubles wide, and its blocks' corners cannot stand clear of
+    # their chords: refused then (a located DomainError), and only then (CLEAR).
+    try:
+        d = decompose_convex_polygon(polygon)
+    except DomainError as error:
+        assert "too thin for where it sits" in str(error)
+        assert clearance(polygon) <= CLEAR
+        return
+    assert_valid(polygon, d)
+
+
+@pytest.mark.parametrize("sliver", [SLIVER_AT_1, SLIVER_AT_2_5, SLAB_AT_1])
+def test_sliver_too_thin_for_where_it_sits(sliver: np.ndarray) -> None:
+    assert meets_contract(sliver) and corner_sines(sliver).min() > 1e-10
+    assert clearance(sliver) < 50
+    with pytest.raises(DomainError, match=r"too thin for where it sits.*\(vertex \d+\)"):
+        decompose_convex_polygon(sliver)
+    # The local frame does not help: the blocks must come back to where the sliver sits.
+    with pytest.raises(DomainError, match="too thin for where it sits"):
+        decompose_polygon([sliver])
+    # Near the origin the same sliver is 1e7 spacings wide and splits.
+    local = sliver - sliver[0]
+    assert clearance(local) > 1e6
+    assert_valid(local, decompose_convex_polygon(local))
+    d = decompose_polygon([local])
+    assert np.all(is_strictly_convex(d.vertices[d.blocks]))
+
+
+@settings(max_examples=examples(100))
+@given(ellipse_polygons())
+@example(SLIVER_AT_1)
+@example(SLIVER_FOLDS)
+def test_decompose_polygon_checks_blocks_where_the_polygon_sits(polygon: np.ndarray) -> None:
+    # decompose_polygon works in the polygon's local frame, where every sliver is wide; its
+    # blocks come back to where the polygon sits, and are refused only when too thin there
+    # (corners too close to their chords, or blocks folded by the rounding on the way back).
+    try:
+        d = decompose_polygon([polygon])
+    except DomainError as error:
+        assert "for where it sits to be decomposed in double precision" in str(error)
+        assert clearance(polygon) <= CLEAR
+        return
+    corners = d.vertices[d.blocks]
+    assert np.all(is_strictly_convex(corners))
+    assert d.vertices[: len(polygon)].tobytes() == polygon.tobytes()
+    assert_no_hanging_node(polygon, d.vertices, d.blocks)
+    if d.layout == "triangulation":
+        return  # may keep ring corners within round-off of their chords (checked for folds)
+    inc = corners - np.roll(corners, 1, axis=1)
+    out = np.roll(corners, -1, axis=1) - corners
+    off = np.abs(inc[..., 0] * out[..., 1] - inc[..., 1] * out[..., 0]) / np.hypot(
+        *np.moveaxis(inc + out, -1, 0)
+    )
+    assert np.all(off > 16 * np.spacing(np.abs(corners).max(axis=(1, 2)))[:, None])
+
+
+def test_many_corners_too_thin_for_where_they_sit() -> None:
+    # Beyond the chord programme the triangulation works in a local frame; its blocks are
+    # checked where the polygon sits (they came back with a corner 1.1 spacings off its chord).
+    with pytest.raises(DomainError, match="too thin for where it sits"):
+        decompose_convex_polygon(1.0 + regular(20) * [1e-7, 1e-14])
 
 
 @given(ellipse_polygons(6, 16))
 def test_star_kept_only_when_better(polygon: np.ndarray) -> None:
+    assume(clearance(polygon) > CLEAR)  # else maybe too thin for where it sits
     d = decompose_convex_polygon(polygon)
     star = decompose._star_layout(polygon)
     assert star is None or len(polygon) % 3 == 0
@@ -201,6 +304,7 @@ def test_star_kept_only_when_better(polygon: np.ndarray) -> None:
 @settings(max_examples=examples(150))
 @given(st.one_of(thin_triangles(), thin_quads()))
 def test_near_degenerate_triangles_and_quads(polygon: np.ndarray) -> None:
+    assume_template_room(polygon)
     assert_valid(polygon, decompose_convex_polygon(polygon))
 
 
