@@ -45,6 +45,13 @@ _FLAT_WEIGHT = 1.5
 #: A kept block keeps every corner turning by at least this sine (a margin above the
 #: strict-convexity tolerance, so that mapping back to global coordinates cannot undo it).
 _SINE_MARGIN = 1e3 * COLLINEAR_SIN_TOL
+#: A kept block keeps every edge longer than this times its largest coordinate (in size): so
+#: long that rounding its ends (an ulp each) turns it by less than the sine margin. The corner
+#: test alone cannot see an edge collapse: a node stepped onto its neighbour leaves an edge an
+#: ulp long whose direction (its coordinates' difference) is still the old one, so both of its
+#: corners still turn and score as before, while the block is a quadrilateral with one point
+#: twice (an edge 1e-17 long failed the global checks as a fold or a repeated point).
+_EDGE_MARGIN = float(np.finfo(np.float64).eps) / _SINE_MARGIN
 _DIRECTIONS = np.exp(2j * np.pi * np.arange(6) / 6)
 #: A node that finds no better position this many times is left where it is.
 _GIVE_UP = 2
@@ -65,10 +72,12 @@ def _block_scores(
     target: float = 38.0,
     limits: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Score of each block; ``-inf`` where a corner turns by less than the sine margin.
+    """Score of each block; ``-inf`` where a corner turns too little or an edge is too short.
 
-    The score needs only the sharpest and the flattest corner, so it is computed from their
-    cosines: two arccosines per block instead of five angles. With ``sizes`` (the size asked
+    A block is kept only when every corner turns by the sine margin and every edge is longer
+    than the edge margin times its largest coordinate (see ``_EDGE_MARGIN``). The score needs
+    only the sharpest and the flattest corner, so it is computed from their cosines: two
+    arccosines per block instead of five angles. With ``sizes`` (the size asked
     of each block), a block whose diameter passes ``_SIZE_OK`` times its size scores lower too
     (see ``_SIZE_SCORE``). With ``limits`` (the largest diameter allowed of each block), a
     block beyond its limit scores ``-inf``, as a folded one does.
@@ -78,10 +87,11 @@ def _block_scores(
     outgoing = xy[:, [1, 2, 3, 4, 0]] - xy
     cross = incoming[..., 0] * outgoing[..., 1] - incoming[..., 1] * outgoing[..., 0]
     dot = incoming[..., 0] * outgoing[..., 0] + incoming[..., 1] * outgoing[..., 1]
-    norms = np.hypot(incoming[..., 0], incoming[..., 1]) * np.hypot(
-        outgoing[..., 0], outgoing[..., 1]
+    lengths = np.hypot(outgoing[..., 0], outgoing[..., 1])
+    norms = lengths[:, [4, 0, 1, 2, 3]] * lengths
+    convex = np.all(cross > _SINE_MARGIN * norms, axis=1) & (
+        lengths.min(axis=1) > _EDGE_MARGIN * np.abs(xy).max(axis=(1, 2))
     )
-    convex = np.all(cross > _SINE_MARGIN * norms, axis=1)
     # The interior angle is 180 degrees minus the turn; its cosine is -dot / norms.
     with np.errstate(invalid="ignore", divide="ignore"):
         cosine = -dot / norms

@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from blockmesh.decompose.optimise import _block_scores, improve_angles, worst_score
 from blockmesh.decompose.pieces import pentagons_from_pieces
 from blockmesh.geometry import is_strictly_convex, signed_area
+from blockmesh.geometry.polygons import corner_sines
 
 
 def jittered_grid(seed_values):
@@ -49,6 +50,20 @@ def test_moves_never_make_any_block_worse_or_non_convex(jitter):
     # A move is kept only if the worst block around the mover gets better, so no block ever
     # drops below the worst score there was.
     assert after.min() >= before.min()
+
+
+def test_an_edge_collapsed_to_an_ulp_counts_as_a_fold():
+    # A node stepped onto its neighbour along their edge leaves the edge an ulp long but with
+    # its old direction: every corner still turns (and scores) as before, yet the block is a
+    # quadrilateral with one point listed twice. It scores -inf, as a folded block does.
+    pentagon = np.array([[0.0, 0.0], [1.0, 0.0], [1.2, 0.6], [0.5, 1.0], [-0.2, 0.6]])
+    collapsed = pentagon.copy()
+    collapsed[0, 0] = np.nextafter(1.0, 0.0)
+    block = np.arange(5)[None]
+    for xy in (pentagon, collapsed):
+        assert np.all(corner_sines(xy[None]) > 1e-3)
+    assert np.isfinite(_block_scores(pentagon, block)[0])
+    assert _block_scores(collapsed, block)[0] == -np.inf
 
 
 def test_nothing_to_do_returns_a_copy():
