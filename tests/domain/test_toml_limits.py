@@ -80,7 +80,7 @@ def test_a_fifo_is_refused_without_waiting_for_a_writer(tmp_path):
     outcome = _finishes(lambda: blockmesh.load_domain(fifo))
     error = outcome.get("error")
     assert isinstance(error, DomainFormatError)
-    assert "not a regular file (a FIFO (named pipe))" in str(error)
+    assert "pipe.toml: it is a FIFO (named pipe), not a regular file" in str(error)
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="no /dev on Windows")
@@ -91,13 +91,13 @@ def test_devices_are_refused(device):
     outcome = _finishes(lambda: blockmesh.load_domain(device))
     error = outcome.get("error")
     assert isinstance(error, DomainFormatError)
-    assert f"{device}: not a regular file (a character device)" in str(error)
+    assert f"{device}: it is a character device, not a regular file" in str(error)
 
 
 def test_directories_and_oversized_and_binary_files(tmp_path, monkeypatch):
     folder = tmp_path / "folder.toml"
     folder.mkdir()
-    with pytest.raises(DomainFormatError, match="not a regular file .a directory."):
+    with pytest.raises(DomainFormatError, match="it is a directory, not a regular file"):
         Domain.from_toml(folder)
     big = tmp_path / "big.toml"
     big.write_text("polygon = [[0, 0], [1, 0], [0, 1]]\n" + "# padding\n" * 100)

@@ -15,12 +15,10 @@ blockmesh.errors.DomainFormatError: inline: arrays or tables nest more than 16 d
 
 from __future__ import annotations
 
-import os
 import re
-import stat
 from pathlib import Path
 
-from blockmesh._system.bounded import file_kind
+from blockmesh._system.bounded import check_regular
 from blockmesh.decompose.polygon import MAX_CORNERS, MAX_FILE_CORNERS
 from blockmesh.errors import DomainFormatError
 
@@ -45,20 +43,10 @@ def read_text_bounded(path: str | Path, *, what: str = "domain file") -> str:
     >>> read_text_bounded("/dev/zero")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    blockmesh.errors.DomainFormatError: /dev/zero: not a regular file (a character device); ...
+    blockmesh.errors.DomainFormatError: cannot read /dev/zero: it is a character device, not a ...
     """
     path = Path(path)
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        raise DomainFormatError(f"{path}: no such file") from None
-    except OSError as error:
-        raise DomainFormatError(f"{path}: cannot read the file ({error.strerror})") from None
-    if not stat.S_ISREG(info.st_mode):
-        raise DomainFormatError(
-            f"{path}: not a regular file ({file_kind(info.st_mode)}); a {what} must be an "
-            "ordinary file"
-        )
+    check_regular(path, what=what, error=DomainFormatError)
     try:
         with open(path, "rb") as handle:
             data = handle.read(MAX_FILE_BYTES + 1)
