@@ -491,11 +491,9 @@ def _interfaces(data: dict, where: str) -> dict[str, Any]:
     }
 
 
-FORMAT = Format(
-    name="mat",
-    description="MATLAB v5 (PolyMesher/VEM): Node, Element cell array, boundary per patch",
-    extensions=(".mat",),
-    writer=write_mat,
-    reader=read_mat,
+FORMAT = Format.of(
+    write_mat,
+    read_mat,
+    "MATLAB v5 (PolyMesher/VEM): Node, Element cell array, boundary per patch",
     compressions=("none", "zlib"),
 )
