@@ -78,8 +78,8 @@ def matlab_name(name: str) -> str:
 
     Examples
     --------
-    >>> matlab_name("outer wall"), matlab_name("2nd"), matlab_name("inlet")
-    ('outer_wall', 'p_2nd', 'inlet')
+    >>> matlab_name("outer wall"), matlab_name("2nd"), len(matlab_name("x" * 100))
+    ('outer_wall', 'p_2nd', 63)
     """
     return MATLAB_NAME.clean(name)
 
