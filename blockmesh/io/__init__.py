@@ -20,9 +20,9 @@ pair and never destroys an old output. Every problem the user can fix, a full di
 read-only folder included, raises :class:`~blockmesh.errors.ExportError`.
 
 Adding a format: write one module with ``write_<name>(mesh, path, **options) -> Path``, a
-reader and a :class:`Format` record ``FORMAT``, and add its name to ``_MODULES`` below; the
-extension lookup, the option checks, :func:`write`, :func:`read` and the tests parametrised over
-:data:`FORMATS` pick it up.
+reader and a :class:`Format` record ``FORMAT`` (:meth:`Format.of`), and add its name to
+``_MODULES`` below; the extension lookup, the option checks, :func:`write`, :func:`read` and
+the tests parametrised over :data:`FORMATS` pick it up.
 
 Examples
 --------

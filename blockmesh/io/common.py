@@ -91,6 +91,31 @@ class Format:
     directory: bool = False
     options: tuple[str, ...] = ()
 
+    @classmethod
+    def of(
+        cls,
+        writer: Callable[..., Path],
+        reader: Callable[[Path], Mesh | PolygonMesh] | None,
+        description: str,
+        **fields: Any,
+    ) -> Format:
+        """The record of the format written by ``writer``, named after it.
+
+        The name is the writer's less ``write_`` (``write_mat`` writes ``mat``) and the
+        extension, unless ``fields`` give the ``extensions``, is that name (``.mat``); ``fields``
+        are the other attributes.
+
+        Examples
+        --------
+        >>> def write_demo(mesh, path): ...
+        >>> Format.of(write_demo, None, "a demonstration", compressions=("none", "zlib"))
+        Format(name='demo', description='a demonstration', extensions=('.demo',), splits=(), \
+compressions=('none', 'zlib'), directory=False, options=())
+        """
+        name = writer.__name__.removeprefix("write_")
+        fields.setdefault("extensions", (f".{name}",))
+        return cls(name, description, writer=writer, reader=reader, **fields)
+
     @property
     def can_read(self) -> bool:
         """Whether :func:`blockmesh.io.read` can read this format."""

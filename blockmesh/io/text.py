@@ -35,7 +35,7 @@ from blockmesh._system.bounded import current_guard
 from blockmesh.errors import ExportError
 from blockmesh.numerics.doubledouble import two_prod
 
-__all__ = ["TextReader", "float_bytes", "int_bytes", "parse_numbers", "write_rows"]
+__all__ = ["ChunkedBytes", "TextReader", "float_bytes", "int_bytes", "parse_numbers", "write_rows"]
 
 #: Width of a formatted float: sign, 17 digits, point, 'e', exponent sign, 3 exponent digits.
 FLOAT_WIDTH = 24
@@ -269,7 +269,37 @@ class _Readable(Protocol):
     def read(self, size: int = -1, /) -> bytes: ...
 
 
-class TextReader:
+class ChunkedBytes:
+    """The bytes of a binary file, read a chunk at a time into a buffer that is parsed in place.
+
+    The base of the chunked readers (:class:`TextReader`, the VTU reader's scanner): they parse
+    ``_buf`` from ``_pos`` on and call :meth:`_more` when they need more of the file; ``_read``
+    counts the bytes read from it. ``chunk`` is the least that one call reads.
+    """
+
+    def __init__(self, file: _Readable, chunk: int) -> None:
+        self.file = file
+        self.chunk = chunk
+        self._buf = b""
+        self._pos = 0
+        self._read = 0  # bytes read from the file so far
+
+    def _more(self) -> bool:
+        """Append the next chunk of the file to the buffer; False at the end of the file.
+
+        The chunk is at least as long as what is buffered, so a long line is read in O(its
+        length), not O(length^2).
+        """
+        data = self.file.read(max(self.chunk, len(self._buf) - self._pos))
+        if not data:
+            return False
+        self._read += len(data)
+        self._buf = self._buf[self._pos :] + data
+        self._pos = 0
+        return True
+
+
+class TextReader(ChunkedBytes):
     r"""Lines and tables of numbers from a binary file, read in chunks of bounded size.
 
     For the text formats' readers: a section header is read with :meth:`line`, a block of ``n``
@@ -289,33 +319,15 @@ class TextReader:
     def __init__(
         self, file: _Readable, where: str, *, chunk: int = 1 << 22, size: int | None = None
     ) -> None:
-        self.file = file
+        super().__init__(file, chunk)
         self.where = where
-        self.chunk = chunk
         self.line_number = 0
-        self._buf = b""
-        self._pos = 0
-        self._read = 0  # bytes read from the file so far
         # the bytes the stream can give at most: the file's size, or given (for a gzip stream,
         # what it may expand to); None: unknown, no size checks
         self._size: int | None = size
         if size is None and isinstance(file, io.BufferedReader | io.FileIO):
             with contextlib.suppress(OSError, ValueError):
                 self._size = os.fstat(file.fileno()).st_size
-
-    def _more(self) -> bool:
-        """Append the next chunk of the file to the buffer; False at the end of the file.
-
-        The chunk is at least as long as what is buffered, so a long line is read in O(its
-        length), not O(length^2).
-        """
-        data = self.file.read(max(self.chunk, len(self._buf) - self._pos))
-        if not data:
-            return False
-        self._read += len(data)
-        self._buf = self._buf[self._pos :] + data
-        self._pos = 0
-        return True
 
     @property
     def left(self) -> int | None:

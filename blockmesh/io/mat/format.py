@@ -78,8 +78,8 @@ def matlab_name(name: str) -> str:
 
     Examples
     --------
-    >>> matlab_name("outer wall"), matlab_name("2nd"), matlab_name("inlet")
-    ('outer_wall', 'p_2nd', 'inlet')
+    >>> matlab_name("outer wall"), matlab_name("2nd"), len(matlab_name("x" * 100))
+    ('outer_wall', 'p_2nd', 63)
     """
     return MATLAB_NAME.clean(name)
 
@@ -491,11 +491,9 @@ def _interfaces(data: dict, where: str) -> dict[str, Any]:
     }
 
 
-FORMAT = Format(
-    name="mat",
-    description="MATLAB v5 (PolyMesher/VEM): Node, Element cell array, boundary per patch",
-    extensions=(".mat",),
-    writer=write_mat,
-    reader=read_mat,
+FORMAT = Format.of(
+    write_mat,
+    read_mat,
+    "MATLAB v5 (PolyMesher/VEM): Node, Element cell array, boundary per patch",
     compressions=("none", "zlib"),
 )

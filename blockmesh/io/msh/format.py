@@ -52,11 +52,9 @@ from blockmesh.io.split import SPLITS
 
 __all__ = ["FORMAT", "read_msh", "write_msh"]
 
-FORMAT = Format(
-    name="msh",
-    description="Gmsh 4.1 ASCII; pentagons split (split=tri5|tri3|quad5), pentagon ids kept",
-    extensions=(".msh",),
-    writer=write_msh,
-    reader=read_msh,
+FORMAT = Format.of(
+    write_msh,
+    read_msh,
+    "Gmsh 4.1 ASCII; pentagons split (split=tri5|tri3|quad5), pentagon ids kept",
     splits=tuple(SPLITS),
 )

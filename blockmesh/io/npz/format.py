@@ -212,11 +212,9 @@ def _text(values: np.ndarray, key: str, where: str, *, scalar: bool = False) -> 
     return str(values) if scalar else [str(v) for v in values.tolist()]
 
 
-FORMAT = Format(
-    name="npz",
-    description="NumPy archive of every mesh array (lossless)",
-    extensions=(".npz",),
-    writer=write_npz,
-    reader=read_npz,
+FORMAT = Format.of(
+    write_npz,
+    read_npz,
+    "NumPy archive of every mesh array (lossless)",
     compressions=("none", "zlib"),
 )

@@ -71,12 +71,11 @@ def foam_word(name: str) -> str:
     return FOAM_WORD.clean(name)
 
 
-FORMAT = Format(
-    name="openfoam",
-    description="OpenFOAM case / polyMesh directory: one extruded layer of pentagonal prisms",
+FORMAT = Format.of(
+    write_openfoam,
+    read_openfoam,
+    "OpenFOAM case / polyMesh directory: one extruded layer of pentagonal prisms",
     extensions=(),
-    writer=write_openfoam,
-    reader=read_openfoam,
     directory=True,
     options=("dz",),
 )

@@ -36,7 +36,6 @@ import numpy as np
 from blockmesh._system.bounded import current_guard, open_regular
 from blockmesh.errors import ExportError
 from blockmesh.geometry.topology import PolygonCells
-from blockmesh.io.common import check_points
 from blockmesh.io.openfoam.files import (
     FaceSizeError,
     Inflated,
@@ -47,10 +46,15 @@ from blockmesh.io.openfoam.files import (
     read_face_zones,
     read_faces,
     read_list,
-    read_zones,
+)
+from blockmesh.io.openfoam.reader import (
+    bottom_plane,
+    case_regions,
+    patch_arrays,
+    read_points,
+    zone_interfaces,
 )
 from blockmesh.io.openfoam.reader import read_openfoam as read_pentagon_case
-from blockmesh.io.openfoam.reader import side_edges, zone_interfaces
 from blockmesh.io.polygons import polygon_mesh_from_arrays
 from blockmesh.io.text import parse_numbers
 from blockmesh.mesh.mesh import Mesh
@@ -139,9 +143,8 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
     with foam_file(poly, "owner") as (r, _):
         n_faces, owner = read_list(r, 1, np.int64)
     owner = owner.ravel()
-    with foam_file(poly, "points") as (r, _):
-        n_points, points = read_list(r, 3, np.float64)
-    check_points(points, str(poly / "points"))  # before the planes are found from them
+    points = read_points(poly)
+    n_points = points.shape[0]
     start, count = int(empty[0]["startFace"]), int(empty[0]["nFaces"])
     for p in patches:
         if int(p["startFace"]) + int(p["nFaces"]) > owner.size:
@@ -154,9 +157,7 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
     _check_ids(nodes, n_points, "the empty patch's node", f"{where}/faces")
     face_owner = owner[start : start + count]
     _check_ids(face_owner, count, "the owner of empty-patch face", where)  # 2 faces per cell
-    zmin = points[:, 2].min(initial=0.0)
-    tol = 1e-9 * max(1.0, float(np.ptp(points[:, 2])) if points.size else 1.0)
-    on_bottom = np.abs(points[:, 2] - zmin) <= tol
+    zmin, on_bottom = bottom_plane(points)
     faces = PolygonCells(offsets, nodes)
     slot_face = faces.slot_cell()
     low = np.bincount(slot_face, on_bottom[nodes], minlength=count) == faces.sizes()
@@ -177,38 +178,33 @@ def read_polygon_case(poly: Path) -> dict[str, Any]:
     used = np.zeros(n_points, dtype=bool)
     used[cell_nodes] = True
     new_id = np.cumsum(used) - 1
-    edges: list[np.ndarray] = []
-    patch: list[np.ndarray] = []
-    names: list[str] = []
-    for p in patches:
-        if p.get("type") == "empty":
-            continue
-        first, size = int(p["startFace"]), int(p["nFaces"])
-        quad_offsets, quad_nodes = _faces(poly, first, size) if size else (np.zeros(1, int), [])
-        if size and np.any(np.diff(quad_offsets) != 4):
-            raise ExportError(f"{where}: patch {p['name']} has side faces that are not quads")
-        quads = np.asarray(quad_nodes, dtype=np.int64).reshape(-1, 4)
-        _check_ids(quads, n_points, f"patch {p['name'][:60]!r}'s node", f"{where}/faces")
-        edges.append(side_edges(quads, on_bottom, f"{where}: patch {p['name']}"))
-        patch.append(np.full(quads.shape[0], len(names)))
-        names.append(p["name"])
-    zones = read_zones(poly, n_cells)
-    region, region_names = zones if zones is not None else (None, None)
+    sides = (
+        (p["name"], _side_quads(poly, p, n_points)) for p in patches if p.get("type") != "empty"
+    )
+    boundary = patch_arrays(sides, on_bottom, new_id, where)
+    regions = case_regions(poly, n_cells)
     interfaces = _interfaces(poly, on_bottom, new_id, where)
-    case = poly.parent.parent if poly.parent.name == "constant" else poly
     del n_faces
     return {
         "points": points[used, :2],
         "offsets": cell_offsets,
         "nodes": new_id[cell_nodes],
-        "region": region,
-        "region_names": region_names,
-        "boundary_edges": new_id[np.concatenate(edges)] if edges else np.empty((0, 2), np.int64),
-        "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
-        "patch_names": names,
+        **regions,
+        **boundary,
         **interfaces,
-        "name": case.name,
     }
+
+
+def _side_quads(poly: Path, patch: dict[str, Any], n_points: int) -> np.ndarray:
+    """The side faces (E, 4) of ``patch``; ExportError for faces that are not quads of points."""
+    where = str(poly)
+    first, size = int(patch["startFace"]), int(patch["nFaces"])
+    quad_offsets, quad_nodes = _faces(poly, first, size) if size else (np.zeros(1, int), [])
+    if size and np.any(np.diff(quad_offsets) != 4):
+        raise ExportError(f"{where}: patch {patch['name']} has side faces that are not quads")
+    quads = np.asarray(quad_nodes, dtype=np.int64).reshape(-1, 4)
+    _check_ids(quads, n_points, f"patch {patch['name'][:60]!r}'s node", f"{where}/faces")
+    return quads
 
 
 def _interfaces(

@@ -24,6 +24,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -48,11 +49,15 @@ from blockmesh.mesh.mesh import Mesh
 
 __all__ = [
     "FaceSizeError",
+    "bottom_plane",
+    "case_regions",
     "foam_file",
+    "patch_arrays",
     "read_boundary",
     "read_faces",
     "read_list",
     "read_openfoam",
+    "read_points",
     "side_edges",
     "zone_interfaces",
 ]
@@ -96,9 +101,8 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
     note = header_counts(header)
     with foam_file(poly, "neighbour") as (r, _):
         n_internal = list_size(r)
-    with foam_file(poly, "points") as (r, _):
-        n_points, points = read_list(r, 3, np.float64)
-    check_points(points, str(poly / "points"))  # before the planes are found from them
+    points = read_points(poly)
+    n_points = points.shape[0]
     face_zones = read_face_zones(poly, n_internal)
     ranges = [(s, n, size) for s, n, size, _ in spans]
     if face_zones is not None and n_internal:
@@ -117,9 +121,7 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
         )
     n_cells = note.get("nCells", int(owner.max(initial=-1)) + 1)
 
-    zmin = points[:, 2].min(initial=0.0)
-    tol = 1e-9 * max(1.0, float(np.ptp(points[:, 2])) if points.size else 1.0)
-    on_bottom = np.abs(points[:, 2] - zmin) <= tol
+    zmin, on_bottom = bottom_plane(points)
     fronts, cell_of = [], []
     for start, _, _, k in spans:
         if patches[k].get("type") == "empty":
@@ -175,39 +177,79 @@ def _mesh_arrays(poly: Path) -> dict[str, Any]:
             block = cells[start : start + _CHUNK]
             block[...] = new_id[block]
     del points, xy, used
-    edges: list[np.ndarray] = []
-    patch: list[np.ndarray] = []
-    names: list[str] = []
-    for k, p in enumerate(patches):
-        if p.get("type") == "empty":
-            continue
-        quad = face_of.get(k, np.empty((0, 4), dtype=np.int64))
-        if quad.size and (quad.max() >= n_points or quad.min() < 0):
-            raise ExportError(
-                f"{where}: patch {p['name'][:60]!r} names points outside the points file"
-            )
-        edges.append(side_edges(quad, on_bottom, f"{where}: patch {p['name']}"))
-        patch.append(np.full(quad.shape[0], len(names)))
-        names.append(p["name"])
-    boundary_edges = np.concatenate(edges) if edges else np.empty((0, 2), np.int64)
-    if new_id is not None:
-        boundary_edges = new_id[boundary_edges]
+    sides = (
+        (p["name"], _checked_sides(face_of.get(k), n_points, f"{where}: patch {p['name'][:60]!r}"))
+        for k, p in enumerate(patches)
+        if p.get("type") != "empty"
+    )
+    boundary = patch_arrays(sides, on_bottom, new_id, where)
     interfaces: dict[str, Any] = {}
     if face_zones is not None and internal is not None:
         interfaces = zone_interfaces(face_zones, internal, on_bottom, new_id, where)
-    zones = read_zones(poly, n_cells)
-    region, region_names = zones if zones is not None else (None, None)
-    case = poly.parent.parent if poly.parent.name == "constant" else poly
     return {
         "points": points_2d,
         "cells": cells,
-        "region": region,
-        "region_names": region_names,
-        "boundary_edges": boundary_edges,
+        **case_regions(poly, n_cells),
+        **boundary,
+        **interfaces,
+    }
+
+
+def _checked_sides(quads: np.ndarray | None, n_points: int, what: str) -> np.ndarray:
+    """``quads`` (E, 4), or none for None; ExportError naming ``what`` for a point not in 0..N-1."""
+    if quads is None:
+        return np.empty((0, 4), dtype=np.int64)
+    if quads.size and (quads.max() >= n_points or quads.min() < 0):
+        raise ExportError(f"{what} names points outside the points file")
+    return quads
+
+
+def read_points(poly: Path) -> np.ndarray:
+    """The points (N, 3) of ``poly``, checked (:func:`~blockmesh.io.common.check_points`)."""
+    with foam_file(poly, "points") as (r, _):
+        _, points = read_list(r, 3, np.float64)
+    check_points(points, str(poly / "points"))  # before the planes are found from them
+    return points
+
+
+def bottom_plane(points: np.ndarray) -> tuple[Any, np.ndarray]:
+    """The lowest z of ``points`` (N, 3) and whether each point is on it (to 1e-9 of the span)."""
+    zmin = points[:, 2].min(initial=0.0)
+    tol = 1e-9 * max(1.0, float(np.ptp(points[:, 2])) if points.size else 1.0)
+    return zmin, np.abs(points[:, 2] - zmin) <= tol
+
+
+def case_regions(poly: Path, n_cells: int) -> dict[str, Any]:
+    """The regions of a mesh (from the cell zones of ``poly``) and its name (the case's)."""
+    zones = read_zones(poly, n_cells)
+    region, region_names = zones if zones is not None else (None, None)
+    case = poly.parent.parent if poly.parent.name == "constant" else poly
+    return {"region": region, "region_names": region_names, "name": case.name}
+
+
+def patch_arrays(
+    sides: Iterable[tuple[str, np.ndarray]],
+    on_bottom: np.ndarray,
+    new_id: np.ndarray | None,
+    where: str,
+) -> dict[str, Any]:
+    """The boundary of a mesh from each patch's name and side faces (quads (E, 4)).
+
+    ``on_bottom`` tells whether each point is on the bottom plane, ``new_id`` the points' new
+    ids (None: kept).
+    """
+    edges: list[np.ndarray] = []
+    patch: list[np.ndarray] = []
+    names: list[str] = []
+    for name, quads in sides:
+        edges.append(side_edges(quads, on_bottom, f"{where}: patch {name}"))
+        patch.append(np.full(quads.shape[0], len(names)))
+        names.append(name)
+    boundary_edges = np.concatenate(edges) if edges else np.empty((0, 2), np.int64)
+    return {
+        "boundary_edges": boundary_edges if new_id is None else new_id[boundary_edges],
         "boundary_patch": np.concatenate(patch) if patch else np.empty(0, np.int64),
         "patch_names": names,
-        **interfaces,
-        "name": case.name,
     }
 
 

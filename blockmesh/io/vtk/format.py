@@ -234,10 +234,6 @@ def read_vtk(path: Path) -> Mesh | PolygonMesh:
     return read_foreign(path, "vtk", meta=meta, fields=fields)  # another tool's file
 
 
-FORMAT = Format(
-    name="vtk",
-    description="legacy VTK 5.1 (older VTK tools): polygons + boundary lines, via meshio",
-    extensions=(".vtk",),
-    writer=write_vtk,
-    reader=read_vtk,
+FORMAT = Format.of(
+    write_vtk, read_vtk, "legacy VTK 5.1 (older VTK tools): polygons + boundary lines, via meshio"
 )

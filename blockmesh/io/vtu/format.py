@@ -519,11 +519,9 @@ def read_foreign(
     return mesh_from_arrays(where=where, **own_arrays(arrays))
 
 
-FORMAT = Format(
-    name="vtu",
-    description="VTK unstructured grid (ParaView): polygons + boundary lines",
-    extensions=(".vtu",),
-    writer=write_vtu,
-    reader=read_vtu,
+FORMAT = Format.of(
+    write_vtu,
+    read_vtu,
+    "VTK unstructured grid (ParaView): polygons + boundary lines",
     compressions=("none", "zlib", "lzma"),
 )

@@ -49,11 +49,11 @@ import numpy as np
 from blockmesh._system.bounded import ReadGuard, inflate
 from blockmesh.errors import ExportError
 from blockmesh.io.streams import DamagedError, NotOursError, Place, read_own_layout
-from blockmesh.io.text import parse_numbers
+from blockmesh.io.text import ChunkedBytes, parse_numbers
 
 __all__ = ["VtuParts", "read_stream"]
 
-_CHUNK = 1 << 22  # base64 characters decoded at a time (a multiple of 4)
+_CHUNK = 1 << 22  # the least read at a time (base64 characters: a multiple of 4)
 _TAG_LIMIT = 1 << 16  # the longest tag the reader accepts
 _FIELD_LIMIT = 1 << 28  # the longest ascii field data array (the curved edges are there)
 _TYPES = {
@@ -183,34 +183,25 @@ def _expect(
     return put
 
 
-class _Scanner:
+class _Scanner(ChunkedBytes):
     """The XML text of a VTU file, read a chunk at a time."""
 
     def __init__(self, f: BinaryIO, size: int) -> None:
-        self.f, self.buf, self.pos = f, b"", 0
-        self.size, self.read = size, 0
+        super().__init__(f, _CHUNK)
+        self.size = size
 
     @property
     def left(self) -> int:
         """Bytes of the file not consumed yet (buffered or not read)."""
-        return self.size - self.read + len(self.buf) - self.pos
-
-    def _more(self) -> bool:
-        chunk = self.f.read(_CHUNK)
-        if not chunk:
-            return False
-        self.read += len(chunk)
-        self.buf = self.buf[self.pos :] + chunk
-        self.pos = 0
-        return True
+        return self.size - self._read + len(self._buf) - self._pos
 
     def until(self, token: bytes, limit: int = _TAG_LIMIT) -> bytes:
         """The (short: at most ``limit`` bytes) text up to ``token``, which is consumed."""
-        while (at := self.buf.find(token, self.pos)) < 0:
-            if len(self.buf) - self.pos > limit or not self._more():
+        while (at := self._buf.find(token, self._pos)) < 0:
+            if len(self._buf) - self._pos > limit or not self._more():
                 raise DamagedError(f"no {token!r}")
-        text = self.buf[self.pos : at]
-        self.pos = at + len(token)
+        text = self._buf[self._pos : at]
+        self._pos = at + len(token)
         return text
 
     def tag(self) -> tuple[bytes, dict[str, str]]:
@@ -230,19 +221,19 @@ class _Scanner:
         carry = b""
         left = count
         while True:  # the whitespace before the text
-            while self.pos < len(self.buf) and self.buf[self.pos] in b" \t\r\n":
-                self.pos += 1
-            if self.pos < len(self.buf) or not self._more():
+            while self._pos < len(self._buf) and self._buf[self._pos] in b" \t\r\n":
+                self._pos += 1
+            if self._pos < len(self._buf) or not self._more():
                 break
         while True:
-            end = self.buf.find(b"<", self.pos)
-            stop = len(self.buf) if end < 0 else end
+            end = self._buf.find(b"<", self._pos)
+            stop = len(self._buf) if end < 0 else end
             if left is not None:
-                stop = min(stop, self.pos + left)
-            text = carry + self.buf[self.pos : stop]
+                stop = min(stop, self._pos + left)
+            text = carry + self._buf[self._pos : stop]
             if left is not None:
-                left -= stop - self.pos
-            self.pos = stop
+                left -= stop - self._pos
+            self._pos = stop
             final = end >= 0 or left == 0
             if end >= 0 and stop == end:
                 text = text.rstrip()

@@ -65,11 +65,10 @@ from blockmesh.io.xdmf.writer import write_xdmf
 __all__ = ["FORMAT", "read_xdmf", "write_xdmf"]
 
 
-FORMAT = Format(
-    name="xdmf",
-    description="XDMF 3 + HDF5 pair (ParaView), polygons written directly with h5py: fastest",
+FORMAT = Format.of(
+    write_xdmf,
+    read_xdmf,
+    "XDMF 3 + HDF5 pair (ParaView), polygons written directly with h5py: fastest",
     extensions=(".xdmf", ".xmf"),
-    writer=write_xdmf,
-    reader=read_xdmf,
     compressions=("none", "zlib"),
 )
