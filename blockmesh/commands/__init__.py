@@ -1,17 +1,21 @@
 """Subcommands of the ``blockmesh`` command line, one module each.
 
-A command module has ``register(subparsers)``, which adds its parser and sets ``run`` as the
-parser's default, and ``run(args) -> int``. Shared options and output helpers are in
+A command module has ``register(subparsers)``, which adds its parser with :func:`add_command`
+(``run`` the parser's default) and then its options, and ``run(args) -> int``. The texts around
+a command's options, its summary, description and example, are here, one table each; shared
+options are in :mod:`blockmesh.commands.options`, output helpers in
 :mod:`blockmesh.commands.common`.
 
 The modules are imported only when their command runs (:func:`load`): ``blockmesh --help`` lists
 the commands from :data:`SUMMARIES` alone, so that it and ``--version`` start fast. A test checks
-that each summary is the help its module registers.
+that each module registers its command under its own name.
 """
 
 from __future__ import annotations
 
+import argparse
 import importlib
+from collections.abc import Callable
 from types import ModuleType
 
 #: Subcommand name -> its one-line help, in the order ``blockmesh --help`` lists them.
@@ -26,12 +30,103 @@ SUMMARIES = {
     "tables": "regenerate the paper's Tables 1-11 (both pentagons) with their errors",
 }
 
-__all__ = ["COMMANDS", "SUMMARIES", "load"]
+#: Subcommand name -> the paragraph that opens its ``--help`` (after the usage line).
+DESCRIPTIONS = {
+    "catalogue": "List the catalogue domains: name, blocks, area, patches, description.",
+    "check": (
+        "Validate a domain (catalogue name, .toml file or --polygon). Prints the certificate "
+        "(blocks, shared edges, boundary edges per patch, regions and the interfaces between "
+        "them, Euler characteristic and connected pieces, orientation, strict convexity and "
+        "angles of every block) and exits 0 when valid; prints the located errors and exits 1 "
+        "otherwise."
+    ),
+    "show": (
+        "Draw the blocks (numbered), vertices (numbered), regions (shaded) and patches (coloured, "
+        "with a legend) of a domain: what to look at before meshing. A mesh file is drawn as a "
+        "mesh."
+    ),
+    "mesh": (
+        "Refine DOMAIN (or several) LEVEL times: every block becomes 6**LEVEL pentagons. Prints "
+        "counts and quality; draws and writes the mesh on request."
+    ),
+    "integrate": (
+        "Integrate a function of x and y over the domain's pentagon mesh at a level, with the "
+        "paper's composite Gauss-Legendre rule (or a cheaper one), or to a tolerance (--tol picks "
+        "the order and level). Every result comes with an error estimate, and a warning when it "
+        "is large (a singular, divergent or unresolved integrand). --exact-integral adds the "
+        "exact integral of a polynomial."
+    ),
+    "solve": (
+        "Solve a diffusion-reaction (Poisson) or plane elasticity problem on DOMAIN's pentagon "
+        "mesh at LEVEL with lowest-order virtual elements; report unknowns, cost and, with "
+        "--exact-solution, the errors; write the solution for ParaView. DOMAIN may be a mesh "
+        "file: the problem is solved on the mesh read, refined further by --level if given. The "
+        "memory the solve needs (the direct solver's factorisation above all) is predicted first: "
+        "a problem that does not fit is refused, naming the largest level that does."
+    ),
+    "convert": (
+        "Read a 2-D mesh of triangles, quadrilaterals or both (Gmsh .msh, .vtu, .vtk, .xdmf and "
+        "the other formats meshio reads) and turn every element into strictly convex pentagons, "
+        "conformingly (a triangle into 9, a quadrilateral into 12). Physical groups become "
+        "patches (lines) and regions (surfaces). Writes the blocks as a domain file "
+        "(-o NAME.toml) or, refined --level times, as a mesh (-o NAME.vtu, .msh, ...)."
+    ),
+    "tables": (
+        "Recompute the paper's Tables 1-11 (composite Gauss-Legendre rule on the refined "
+        "pentagons SP and USP), print them in the paper's layout (OGLR rows x NPMR=6^L columns) "
+        "with the error of every entry against a high-precision reference, and optionally write "
+        "all entries to CSV and the convergence picture to PNG."
+    ),
+}
+
+#: Subcommand name -> the example that closes its ``--help``, for the commands that have one.
+EXAMPLES = {
+    "integrate": 'blockmesh integrate sp --function "(x^4 + y^3)/(1 + x^2)" --level 3',
+    "solve": 'blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
+    "--dirichlet '*=0' --exact-solution \"sin(pi*x)*sin(pi*y)\"",
+}
+
+__all__ = ["COMMANDS", "DESCRIPTIONS", "EXAMPLES", "SUMMARIES", "add_command", "load"]
 
 
 def load(name: str) -> ModuleType:
     """The module of subcommand ``name`` (imported now if it was not yet)."""
     return importlib.import_module(f".{name}", __name__)
+
+
+def add_command(
+    subparsers: argparse._SubParsersAction,
+    name: str,
+    run: Callable[[argparse.Namespace], int],
+) -> argparse.ArgumentParser:
+    """Add subcommand ``name`` to ``subparsers``: its parser, which runs ``run``.
+
+    The parser's texts are the command's entries in :data:`SUMMARIES` (its help),
+    :data:`DESCRIPTIONS` and :data:`EXAMPLES` (its epilog, ``example: ...``).
+
+    Parameters
+    ----------
+    subparsers
+        The ``blockmesh`` parser's subcommands.
+    name
+        The subcommand's name.
+    run
+        What runs the parsed arguments (the parser's default ``run``).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser, for its options.
+    """
+    example = EXAMPLES.get(name)
+    parser = subparsers.add_parser(
+        name,
+        help=SUMMARIES[name],
+        description=DESCRIPTIONS[name],
+        epilog=None if example is None else f"example: {example}",
+    )
+    parser.set_defaults(run=run)
+    return parser
 
 
 def __getattr__(name: str) -> tuple[ModuleType, ...]:

@@ -3,12 +3,26 @@
 from __future__ import annotations
 
 import argparse
+from typing import TypedDict
 
 from blockmesh._system.memory import format_bytes
 from blockmesh.commands.common import check_range
 from blockmesh.errors import BlockMeshError
 
-__all__ = ["add_partition_arguments", "check_partition_arguments"]
+__all__ = [
+    "PartitionKeywords",
+    "add_partition_arguments",
+    "check_partition_arguments",
+    "partition_keywords",
+]
+
+
+class PartitionKeywords(TypedDict):
+    """The keywords of a partitioned run (:mod:`blockmesh.distributed`) that its options give."""
+
+    partitions: int
+    workers: int | None
+    scheduler: str | None
 
 
 def add_partition_arguments(parser: argparse.ArgumentParser, what: str) -> None:
@@ -72,3 +86,11 @@ def check_partition_arguments(args: argparse.Namespace) -> bool:
             f"--partitions, less than a worker needs ({format_bytes(WORKER_BASE_BYTES)})"
         )
     return True
+
+
+def partition_keywords(args: argparse.Namespace) -> PartitionKeywords:
+    """The keywords ``partitions``, ``workers`` and ``scheduler`` of a partitioned run.
+
+    Read from ``args``, which has passed :func:`check_partition_arguments` (a partitioned run).
+    """
+    return {"partitions": args.partitions, "workers": args.workers, "scheduler": args.scheduler}

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from blockmesh.commands import add_command
 from blockmesh.commands.common import print_json
 from blockmesh.commands.options import add_json_option
 from blockmesh.domain.catalogue import catalogue_names
@@ -13,13 +14,8 @@ from blockmesh.domain.loading import load_domain
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``catalogue`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "catalogue",
-        help="list the catalogue of ready-made domains",
-        description="List the catalogue domains: name, blocks, area, patches, description.",
-    )
+    parser = add_command(subparsers, "catalogue", run)
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -8,6 +8,7 @@ import warnings
 
 import numpy as np
 
+from blockmesh.commands import add_command
 from blockmesh.commands.common import (
     add_domain_arguments,
     json_error,
@@ -28,18 +29,9 @@ from blockmesh.mesh.polygons import PolygonMesh
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``check`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "check",
-        help="validate a domain and print its conformity certificate",
-        description="Validate a domain (catalogue name, .toml file or --polygon). Prints the "
-        "certificate (blocks, shared edges, boundary edges per patch, regions and the "
-        "interfaces between them, Euler characteristic and connected pieces, orientation, "
-        "strict convexity and angles of every block) and exits 0 when valid; "
-        "prints the located errors and exits 1 otherwise.",
-    )
+    parser = add_command(subparsers, "check", run)
     add_domain_arguments(parser)
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

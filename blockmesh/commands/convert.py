@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blockmesh.commands import add_command
 from blockmesh.commands.common import check_folders, check_level_options, print_json, printable
 from blockmesh.commands.options import add_json_option, add_level_option
 from blockmesh.domain.domain import Domain
@@ -17,15 +18,7 @@ from blockmesh.io import SPLITS, write
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``convert`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "convert",
-        help="convert a triangle/quadrilateral mesh into pentagonal blocks",
-        description="Read a 2-D mesh of triangles, quadrilaterals or both (Gmsh .msh, .vtu, .vtk, "
-        ".xdmf and the other formats meshio reads) and turn every element into strictly convex "
-        "pentagons, conformingly (a triangle into 9, a quadrilateral into 12). Physical groups "
-        "become patches (lines) and regions (surfaces). Writes the blocks as a domain file "
-        "(-o NAME.toml) or, refined --level times, as a mesh (-o NAME.vtu, .msh, ...).",
-    )
+    parser = add_command(subparsers, "convert", run)
     parser.add_argument("input", metavar="IN", help="the mesh file to convert")
     parser.add_argument(
         "-o",
@@ -45,7 +38,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--name", help="the domain's name (default: the input file's stem)")
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -9,7 +9,12 @@ from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any
 
-from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.commands import add_command
+from blockmesh.commands._partitions import (
+    add_partition_arguments,
+    check_partition_arguments,
+    partition_keywords,
+)
 from blockmesh.commands.common import (
     add_domain_arguments,
     check_level_options,
@@ -40,16 +45,7 @@ _DEFAULT_ORDER = 10
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``integrate`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "integrate",
-        help="integrate f(x, y) over a domain with a composite Gauss rule",
-        description="Integrate a function of x and y over the domain's pentagon mesh at a level, "
-        "with the paper's composite Gauss-Legendre rule (or a cheaper one), or to a tolerance "
-        "(--tol picks the order and level). Every result comes with an error estimate, and a "
-        "warning when it is large (a singular, divergent or unresolved integrand). "
-        "--exact-integral adds the exact integral of a polynomial.",
-        epilog='example: blockmesh integrate sp --function "(x^4 + y^3)/(1 + x^2)" --level 3',
-    )
+    parser = add_command(subparsers, "integrate", run)
     add_domain_arguments(parser)
     parser.add_argument(
         "--function",
@@ -110,7 +106,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_partition_arguments(parser, "integrate")
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 def _decimal(value: Fraction, digits: int = 22) -> str:
@@ -151,9 +146,8 @@ def _integrate(args: argparse.Namespace, target: Any) -> IntegrationResult:
 
             return integrate_partitions(
                 target, args.function, order=_DEFAULT_ORDER if args.order is None else args.order,
-                level=_level(args, target), rule=args.rule or "paper", partitions=args.partitions,
-                workers=args.workers, scheduler=args.scheduler, max_points=args.max_points,
-                exact_geometry=args.exact_geometry,
+                level=_level(args, target), rule=args.rule or "paper", max_points=args.max_points,
+                exact_geometry=args.exact_geometry, **partition_keywords(args),
             )  # fmt: skip
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BlockMeshWarning)  # printed below, with the options

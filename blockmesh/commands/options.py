@@ -1,9 +1,10 @@
 """The options several subcommands share, each defined once.
 
 ``--level``/``-l``, ``--smooth``, ``--placement`` (earlier ``--quality-rule``), ``--max-memory``,
-``--json`` and ``--plot`` mean the same on every command that takes them; only the sentence that
-says what they apply to changes. An earlier spelling of a renamed option still works and prints
-one note on stderr naming the current one.
+``--json``, ``--plot`` and the split scheme of marked cells (``--refine-scheme``, ``--scheme``)
+mean the same on every command that takes them; only the sentence that says what they apply to
+changes. An earlier spelling of a renamed option still works and prints one note on stderr naming
+the current one.
 
 Examples
 --------
@@ -23,6 +24,7 @@ from typing import Any
 
 from blockmesh.commands.common import parse_size
 from blockmesh.refinement.improve import QUALITY_RULES
+from blockmesh.refinement.local import SCHEMES
 
 __all__ = [
     "RenamedOption",
@@ -32,6 +34,7 @@ __all__ = [
     "add_placement_options",
     "add_plot_option",
     "add_renamed_flag",
+    "add_scheme_option",
 ]
 
 
@@ -125,3 +128,18 @@ def add_json_option(parser: argparse.ArgumentParser) -> None:
 def add_plot_option(parser: argparse.ArgumentParser, what: str) -> None:
     """Add ``--plot PNG``: draw ``what`` into a PNG file."""
     parser.add_argument("--plot", metavar="PNG", help=f"draw {what} (PNG)")
+
+
+def add_scheme_option(parser: argparse._ActionsContainer, flag: str) -> None:
+    """Add ``flag`` (a :data:`~blockmesh.refinement.local.SCHEMES` name): how marked cells split.
+
+    ``blockmesh mesh --refine-scheme`` and ``blockmesh solve --adapt --scheme``; a parser or an
+    argument group.
+    """
+    parser.add_argument(
+        flag,
+        choices=tuple(SCHEMES),
+        default="pentagons",
+        help="how a marked cell is split: the paper's six pentagons (default; other polygons "
+        "into corner pentagons and a central polygon), or quadrilaterals through its centre",
+    )

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from blockmesh.commands import add_command
 from blockmesh.commands.common import (
     add_domain_arguments,
     plural,
@@ -18,13 +19,7 @@ from blockmesh.plot import LABEL_LIMIT, LABELS, plot_domain, plot_mesh
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``show`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "show",
-        help="draw a domain's blocks, vertices and patches",
-        description="Draw the blocks (numbered), vertices (numbered), regions (shaded) and "
-        "patches (coloured, with a legend) of a domain: what to look at before meshing. A mesh "
-        "file is drawn as a mesh.",
-    )
+    parser = add_command(subparsers, "show", run)
     add_domain_arguments(parser)
     parser.add_argument(
         "-o", "--output", metavar="FILE.png", help="picture file (default: NAME.png, here)"
@@ -37,7 +32,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "none overlap; all; or none (a mesh file: its cells and nodes, auto up to "
         f"{LABEL_LIMIT} cells)",
     )
-    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

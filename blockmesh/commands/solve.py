@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from blockmesh._system.memory import available_memory, process_rss
+from blockmesh.commands import add_command
 from blockmesh.commands.common import (
     add_domain_arguments,
     check_folders,
@@ -65,19 +66,7 @@ DEFAULT_LEVEL = 2
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``solve`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "solve",
-        help="solve a Poisson or elasticity problem on the mesh (virtual elements)",
-        description="Solve a diffusion-reaction (Poisson) or plane elasticity problem on "
-        "DOMAIN's pentagon mesh at LEVEL with lowest-order virtual elements; report unknowns, "
-        "cost and, with --exact-solution, the errors; write the solution for ParaView. DOMAIN "
-        "may be a "
-        "mesh file: the problem is solved on the mesh read, refined further by --level if given. "
-        "The memory the solve needs (the direct solver's factorisation above all) is predicted "
-        "first: a problem that does not fit is refused, naming the largest level that does.",
-        epilog='example: blockmesh solve square --level 3 --source "2*pi^2*sin(pi*x)*sin(pi*y)" '
-        "--dirichlet '*=0' --exact-solution \"sin(pi*x)*sin(pi*y)\"",
-    )
+    parser = add_command(subparsers, "solve", run)
     add_domain_arguments(parser)
     add_level_option(
         parser,
@@ -176,7 +165,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_plot_option(parser, "the solution")
     add_adaptive_arguments(parser)
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 #: One ``--dirichlet`` or ``--neumann`` option: (flag, the option's text, patches, expression);

@@ -23,11 +23,11 @@ from collections.abc import Callable
 from typing import Any
 
 from blockmesh.commands.common import check_folders, print_json, printable
+from blockmesh.commands.options import add_scheme_option
 from blockmesh.errors import BlockMeshError
 from blockmesh.io import check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
-from blockmesh.refinement.local import SCHEMES
 from blockmesh.vem.adaptive import DEFAULT_MAX_STEPS, AdaptiveStep, solve_adaptive
 from blockmesh.vem.fields import split_pair
 from blockmesh.vem.output import write_solution
@@ -60,13 +60,7 @@ def add_adaptive_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="THETA",
         help="Doerfler's bulk fraction in (0, 1] (default 0.5)",
     )
-    group.add_argument(
-        "--scheme",
-        choices=tuple(SCHEMES),
-        default="pentagons",
-        help="how marked cells are split: the paper's six pentagons (default) or "
-        "quadrilaterals through the centre",
-    )
+    add_scheme_option(group, "--scheme")
     group.add_argument(
         "--max-steps",
         type=int,

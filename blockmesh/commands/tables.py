@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from blockmesh._system.atomic import atomic_file
+from blockmesh.commands import add_command
 from blockmesh.commands.common import check_folders, print_json, printable
 from blockmesh.commands.options import add_json_option, add_plot_option
 from blockmesh.quadrature import RULES
@@ -45,14 +46,7 @@ def _int_list(text: str) -> tuple[int, ...]:
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``tables`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "tables",
-        help="regenerate the paper's Tables 1-11 (both pentagons) with their errors",
-        description="Recompute the paper's Tables 1-11 (composite Gauss-Legendre rule on the "
-        "refined pentagons SP and USP), print them in the paper's layout (OGLR rows x NPMR=6^L "
-        "columns) with the error of every entry against a high-precision reference, and "
-        "optionally write all entries to CSV and the convergence picture to PNG.",
-    )
+    parser = add_command(subparsers, "tables", run)
     parser.add_argument(
         "--table",
         type=_int_list,
@@ -85,7 +79,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--csv", metavar="FILE", help="write every entry to a CSV file")
     add_plot_option(parser, "the error against the level, one line per order")
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

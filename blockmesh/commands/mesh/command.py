@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 
+from blockmesh.commands import add_command
 from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
 from blockmesh.commands._progress import StageProgress
 from blockmesh.commands.common import (
@@ -31,21 +32,16 @@ from blockmesh.commands.options import (
     add_max_memory_option,
     add_placement_options,
     add_plot_option,
+    add_scheme_option,
 )
 from blockmesh.errors import BlockMeshError
 from blockmesh.io import SPLITS
-from blockmesh.refinement.local import SCHEMES
 from blockmesh.refinement.pipeline import NUMBERINGS
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``mesh`` subcommand and its options to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "mesh",
-        help="refine domains into all-pentagon meshes; report, draw, export",
-        description="Refine DOMAIN (or several) LEVEL times: every block becomes 6**LEVEL "
-        "pentagons. Prints counts and quality; draws and writes the mesh on request.",
-    )
+    parser = add_command(subparsers, "mesh", run)
     add_domain_arguments(parser, many=True)
     add_level_option(
         parser,
@@ -135,13 +131,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="PATCH:DISTANCE",
         help="split the cells within DISTANCE of boundary patch PATCH (repeatable)",
     )
-    local.add_argument(
-        "--refine-scheme",
-        choices=tuple(SCHEMES),
-        default="pentagons",
-        help="how a marked cell is split: the paper's six pentagons (default; other polygons "
-        "into corner pentagons and a central polygon), or quadrilaterals through its centre",
-    )
+    add_scheme_option(local, "--refine-scheme")
     local.add_argument(
         "--refine-rounds",
         type=int,
@@ -164,7 +154,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         parser, "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
     )
     add_json_option(parser)
-    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

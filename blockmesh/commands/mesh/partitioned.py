@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import cast
 
 from blockmesh._system.memory import format_bytes
+from blockmesh.commands._partitions import partition_keywords
 from blockmesh.commands._progress import StageProgress
 from blockmesh.commands.common import (
     check_folders,
@@ -103,11 +104,9 @@ def run_partitioned(args: argparse.Namespace) -> int:
             cast(Domain | Mesh, target),  # partition() has refused a PolygonMesh
             steps,
             output,
-            partitions=args.partitions,
-            workers=args.workers,
-            scheduler=args.scheduler,
             memory_limit=args.max_memory,
             progress=tick,
+            **partition_keywords(args),
         )
     report = {
         "domain": target.name,
