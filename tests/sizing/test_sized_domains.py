@@ -7,6 +7,7 @@ times, and distance-threshold fields around holes and corners) is marked slow.
 
 from __future__ import annotations
 
+import importlib
 import math
 
 import numpy as np
@@ -296,19 +297,43 @@ def test_every_composite_domain_at_sizes_spanning_ten_times(name, divisions):
     check_sized(domain, _size(domain, divisions))
 
 
+#: A curve piece's three block edges are not quite equal: each turns at most this many times a
+#: third of the piece (1.11 seen).
+UNEVEN = 1.2
+
+
 def _largest_block_edge_turn(sized: blockmesh.Domain) -> float:
     """The largest turn of a curved block edge, in radians (arcs only)."""
     return max(abs(curve.sweep) for curve in sized.curves.values() if isinstance(curve, Arc))
 
 
-def test_curves_sampled_finely_again_where_a_block_would_fold():
-    # Fibres of radius 0.15 under cells of 0.25: at 40 degrees per curve piece a block along a
-    # fibre folds when refined; the outline is sampled again at 30 degrees and holds.
+def test_curves_sampled_finely_again_where_a_block_would_fold(monkeypatch):
+    # Fibres of radius 0.15 under cells of 0.25: whichever sampling the decomposition keeps,
+    # the blocks along a fibre refine without folding. (Whether blocks made at 40 degrees per
+    # curve piece fold here depends on the last bits of the optimiser's arithmetic: they do with
+    # today's NumPy and SciPy, they do not with the oldest versions pyproject.toml allows.)
     fibres = blockmesh.load_domain("fibre-cell")
     coarse = fibres.with_size(0.25)
-    # A segment's three block edges are not quite equal: each turns at most 1.1 times a third.
-    assert _largest_block_edge_turn(coarse) <= 1.1 * CURVE_TURN_SAFE / 3
+    assert _largest_block_edge_turn(coarse) <= UNEVEN * CURVE_TURN / 3
     coarse.mesh(3).check_geometry()
+    # Where the blocks made at CURVE_TURN fold (forced here, so that the retry is tested on
+    # every machine), the curves are sampled again at CURVE_TURN_SAFE.
+    sized = importlib.import_module("blockmesh.domain.sized")
+    build = sized._sized_domain
+    turns = []
+
+    def fold_when_coarse(domain, outline, made, chains):
+        turns.append(outline.curve_turn)
+        if outline.curve_turn == CURVE_TURN:
+            raise blockmesh.DomainError("a block folds along its curve (forced by the test)")
+        return build(domain, outline, made, chains)
+
+    monkeypatch.setattr(sized, "_sized_domain", fold_when_coarse)
+    safe = fibres.with_size(0.25)
+    assert turns == [CURVE_TURN, CURVE_TURN_SAFE]
+    assert _largest_block_edge_turn(safe) <= UNEVEN * CURVE_TURN_SAFE / 3
+    safe.mesh(3).check_geometry()
+    monkeypatch.undo()
     # Where nothing folds the curves keep the coarser sampling (fewer cells).
     fine = fibres.with_size(math.sqrt(fibres.area) / 25)
-    assert 1.1 * CURVE_TURN_SAFE / 3 < _largest_block_edge_turn(fine) <= 1.1 * CURVE_TURN / 3
+    assert UNEVEN * CURVE_TURN_SAFE / 3 < _largest_block_edge_turn(fine) <= UNEVEN * CURVE_TURN / 3
