@@ -50,7 +50,8 @@ from blockmesh.errors import (
 )
 from blockmesh.numerics.expr import parse_expression
 
-__all__ = [
+#: The names :mod:`blockmesh.sizing` gives from this module: the size fields and the constant.
+FIELD_NAMES = (
     "PENTAGON_AREA",
     "Callback",
     "Constant",
@@ -59,10 +60,9 @@ __all__ = [
     "Minimum",
     "Near",
     "SizeField",
-    "as_field",
-    "checked_size",
-    "checked_sizes",
-]
+)
+
+__all__ = [*FIELD_NAMES, "as_field", "checked_size", "checked_sizes"]
 
 #: Area of a regular pentagon of diameter 1 (its diagonal): a mesh of cells of diameter at most
 #: h covers at most this times h^2 per cell, so it has at least ``area / (PENTAGON_AREA h^2)``.
