@@ -2,8 +2,9 @@
 
 A :class:`Mesh` is what :func:`blockmesh.refine` returns and what integration and the writers take.
 Level 0 is the block mesh of a domain itself; every level splits each cell into six. What it
-shares with :class:`~blockmesh.mesh.polygons.PolygonMesh` has one home each: the arrays frozen
-and checked (:mod:`~blockmesh.mesh.arrays`), patches, regions, interfaces and relabelled copies
+shares with :class:`~blockmesh.mesh.polygons.PolygonMesh` has one home each: the methods both
+have (their base class, :mod:`~blockmesh.mesh.common`), the arrays frozen and checked
+(:mod:`~blockmesh.mesh.arrays`), patches, regions, interfaces and relabelled copies
 (:mod:`~blockmesh.mesh.labels`), node numbering (:mod:`~blockmesh.mesh.numbering`).
 
 Examples
