@@ -2,8 +2,9 @@
 
 A :class:`Mesh` is what :func:`blockmesh.refine` returns and what integration and the writers take.
 Level 0 is the block mesh of a domain itself; every level splits each cell into six. What it
-shares with :class:`~blockmesh.mesh.polygons.PolygonMesh` has one home each: the arrays frozen
-and checked (:mod:`~blockmesh.mesh.arrays`), patches, regions, interfaces and relabelled copies
+shares with :class:`~blockmesh.mesh.polygons.PolygonMesh` has one home each: the methods both
+have (their base class, :mod:`~blockmesh.mesh.common`), the arrays frozen and checked
+(:mod:`~blockmesh.mesh.arrays`), patches, regions, interfaces and relabelled copies
 (:mod:`~blockmesh.mesh.labels`), node numbering (:mod:`~blockmesh.mesh.numbering`).
 
 Examples
@@ -18,8 +19,8 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -39,6 +40,7 @@ from blockmesh.mesh.arrays import (
     own_blocks,
     trusted,
 )
+from blockmesh.mesh.common import MeshBase
 from blockmesh.mesh.labels import interface_summary
 from blockmesh.mesh.measures import CellMeasures, measure_cells, signed_areas
 from blockmesh.mesh.numbering import BANDWIDTH_CHUNK
@@ -51,7 +53,7 @@ _CHUNK = 1 << 18
 
 
 @dataclass(frozen=True, eq=False, repr=False)
-class Mesh:
+class Mesh(MeshBase):
     """A conforming all-pentagon mesh.
 
     Attributes
@@ -110,11 +112,6 @@ class Mesh:
     interface_patch: np.ndarray = field(default_factory=lambda: NO_IDS)
     interface_names: tuple[str, ...] = ()
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        self._freeze()
-        self._check_arrays()
-        self._check_cells()
 
     @classmethod
     def _trusted(cls, *, check_ranges: bool = True, **values: Any) -> Mesh:
@@ -230,11 +227,6 @@ class Mesh:
 
     # ----------------------------------------------------------------- sizes
     @property
-    def n_points(self) -> int:
-        """Number of nodes N."""
-        return int(self.points.shape[0])
-
-    @property
     def n_cells(self) -> int:
         """Number of cells M."""
         return int(self.cells.shape[0])
@@ -312,20 +304,6 @@ class Mesh:
         """
         return self.cell_areas() + area_corrections(self.cells, self.n_points, self.curves)
 
-    @property
-    def curved_area(self) -> float:
-        """Total area of the mesh bounded by its curved edges (its :attr:`area` without curves).
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> disc = blockmesh.load_domain("disc")
-        >>> mesh = disc.mesh(2)
-        >>> round(mesh.curved_area, 12), mesh.area < mesh.curved_area
-        (3.14159265359, True)
-        """
-        return float(np.sum(self.curved_cell_areas()))
-
     # --------------------------------------------------------------- quality
     def quality(
         self, *, chunk: int | None = None, progress: Callable[[int, int], None] | None = None
@@ -346,14 +324,7 @@ class Mesh:
         (56.3, 150.3, 0)
         """
         m = self._measures(progress) if chunk is None else measure_cells(self, chunk=chunk)
-        return MeshQuality.of(
-            min_angle=m.min_angle,
-            max_angle=m.max_angle,
-            max_aspect_ratio=m.max_aspect_ratio,
-            min_area=m.min_area,
-            max_area=m.max_area,
-            not_strictly_convex=m.not_strictly_convex,
-        )
+        return MeshQuality.from_measures(asdict(m))
 
     def check_geometry(self) -> None:
         """Raise DomainError unless every cell is a strictly convex, counter-clockwise polygon.
@@ -422,30 +393,6 @@ class Mesh:
         return self.renumbered(numbering.rcm_order(self.cells, self.n_points))
 
     # ------------------------------------------------------------ boundaries
-    def patch_edges(self, patch: str) -> np.ndarray:
-        """Boundary edges (E, 2) of the named patch.
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> blockmesh.load_domain("sp").mesh(2).patch_edges("boundary").shape
-        (20, 2)
-        """
-        return labels.patch_edges(self, patch)
-
-    @property
-    def interfaces(self) -> Mapping[str, np.ndarray]:
-        """Interface edges (E, 2) of each interface, by name (read-only view; empty if none).
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> mesh = blockmesh.load_domain("layered-plate").mesh(1)
-        >>> {name: len(edges) for name, edges in mesh.interfaces.items()}
-        {'bottom|core': 24, 'core|top': 24}
-        """
-        return labels.interfaces_by_name(self)
-
     def interface_cells(self) -> np.ndarray:
         """The two cells of every interface edge, (Ei, 2): the one on its left, then its right.
 
@@ -463,79 +410,6 @@ class Mesh:
         return labels.interface_cells(self, self.cells)
 
     # ------------------------------------------------------------ copies
-    def _copy(self, **changes: Any) -> Mesh:
-        """A copy with some arrays replaced; the cheap checks run, the caches start empty."""
-        return labels.copy_mesh(self, changes)
-
-    def with_patches(self, boundary_patch: Any, patch_names: Any) -> Mesh:
-        """The same mesh with its boundary edges put in other patches.
-
-        Parameters
-        ----------
-        boundary_patch : array_like (Eb,) int
-            Index into ``patch_names`` of every boundary edge, in the order of ``boundary_edges``.
-        patch_names : sequence of str
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> mesh = blockmesh.load_domain("sp").mesh(1)
-        >>> first = (np.arange(10) < 2).astype(int)
-        >>> mesh.with_patches(first, ["wall", "inlet"]).patch_edges("inlet").tolist()
-        [[0, 5], [5, 1]]
-        """
-        return labels.with_patches(self, boundary_patch, patch_names)
-
-    def with_regions(self, region: Any, region_names: Any) -> Mesh:
-        """The same mesh with its cells put in other regions (``region`` indexes the names).
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> mesh = blockmesh.load_domain("sp").mesh(1)
-        >>> mesh.with_regions(np.arange(6) % 2, ["even", "odd"]).region_names
-        ('even', 'odd')
-        """
-        return labels.with_regions(self, region, region_names)
-
-    def with_interfaces(
-        self, interface_edges: Any, interface_patch: Any, interface_names: Any
-    ) -> Mesh:
-        """The same mesh with other interfaces (internal patches); each edge is checked.
-
-        Parameters
-        ----------
-        interface_edges : array_like (Ei, 2) int
-            Edges each shared by two cells, the first side's cell on the left.
-        interface_patch : array_like (Ei,) int
-            Index into ``interface_names`` of every interface edge.
-        interface_names : sequence of str
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> mesh = blockmesh.load_domain("joined-2").mesh(0)
-        >>> mesh.with_interfaces([[1, 2]], [0], ["glue"]).interfaces["glue"].tolist()
-        [[1, 2]]
-        """
-        return labels.with_interfaces(self, interface_edges, interface_patch, interface_names)
-
-    def with_points(self, points: Any) -> Mesh:
-        """The same cells on moved nodes (e.g. after smoothing); orientation is checked again.
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> mesh = blockmesh.load_domain("sp").mesh(1)
-        >>> round(mesh.with_points(2 * mesh.points).area, 12)
-        20.0
-        """
-        return labels.with_points(self, points)
-
-    def with_name(self, name: str) -> Mesh:
-        """The same mesh under another name."""
-        return self._copy(name=name)
-
     def __repr__(self) -> str:
         """A one-line summary (the arrays are not printed)."""
         name = f"{self.name!r}, " if self.name else ""

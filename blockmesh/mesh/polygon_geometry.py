@@ -240,7 +240,7 @@ def measure(mesh: PolygonMesh) -> dict[str, Any]:
         "max_area": float(areas.max()) if areas.size else math.nan,
         "min_angle": float(corner_angles.min()) if corner_angles.size else math.nan,
         "max_angle": float(corner_angles.max()) if corner_angles.size else math.nan,
-        "max_aspect": float(aspect.max()) if aspect.size else math.nan,
+        "max_aspect_ratio": float(aspect.max()) if aspect.size else math.nan,
         "not_strictly_convex": int(np.count_nonzero(bad)),
         "invalid": np.flatnonzero(bad),
     }

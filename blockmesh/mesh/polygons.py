@@ -66,6 +66,7 @@ from blockmesh.mesh.arrays import (
     shared_values,
     trusted,
 )
+from blockmesh.mesh.common import MeshBase
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygon_build import polygon_layout
 from blockmesh.mesh.polygon_checks import (
@@ -103,7 +104,7 @@ class CellGroup:
 
 
 @dataclass(frozen=True, eq=False, repr=False)
-class PolygonMesh:
+class PolygonMesh(MeshBase):
     """A conforming mesh of counter-clockwise polygons (hanging nodes are straight vertices).
 
     Attributes
@@ -169,11 +170,6 @@ class PolygonMesh:
     interface_patch: np.ndarray = field(default_factory=lambda: NO_IDS)
     interface_names: tuple[str, ...] = ()
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        self._freeze()
-        self._check_arrays()
-        self._check_cells()
 
     @classmethod
     def _trusted(cls, **values: Any) -> PolygonMesh:
@@ -305,11 +301,6 @@ class PolygonMesh:
 
     # ----------------------------------------------------------------- sizes
     @property
-    def n_points(self) -> int:
-        """Number of nodes N."""
-        return int(self.points.shape[0])
-
-    @property
     def n_cells(self) -> int:
         """Number of cells M."""
         return int(self.offsets.shape[0]) - 1
@@ -389,11 +380,6 @@ class PolygonMesh:
             self.polygon_cells(), self.n_points, self.curves
         )
 
-    @property
-    def curved_area(self) -> float:
-        """Total area of the mesh bounded by its curved edges."""
-        return float(np.sum(self.curved_cell_areas()))
-
     def cell_diameters(self) -> np.ndarray:
         """Largest distance between two vertices of every cell (M,)."""
         return geometry.cell_diameters(self)
@@ -457,15 +443,7 @@ class PolygonMesh:
         >>> round(q.min_angle, 1), round(q.max_angle, 1), q.not_strictly_convex
         (56.3, 150.3, 0)
         """
-        m = geometry.measure(self)
-        return MeshQuality.of(
-            min_angle=m["min_angle"],
-            max_angle=m["max_angle"],
-            max_aspect_ratio=m["max_aspect"],
-            min_area=m["min_area"],
-            max_area=m["max_area"],
-            not_strictly_convex=m["not_strictly_convex"],
-        )
+        return MeshQuality.from_measures(geometry.measure(self))
 
     def check_geometry(self) -> None:
         """Raise DomainError unless every cell is convex and counter-clockwise.
@@ -507,23 +485,6 @@ class PolygonMesh:
         """Index of ``patch`` in ``patch_names`` (UnknownNameError listing the patches)."""
         return labels.patch_index(self, patch)
 
-    def patch_edges(self, patch: str) -> np.ndarray:
-        """Boundary edges (E, 2) of the named patch."""
-        return labels.patch_edges(self, patch)
-
-    @property
-    def interfaces(self) -> Mapping[str, np.ndarray]:
-        """Interface edges (E, 2) of each interface, by name (read-only view; empty if none).
-
-        Examples
-        --------
-        >>> import blockmesh
-        >>> mesh = PolygonMesh.from_mesh(blockmesh.load_domain("layered-plate").mesh(1))
-        >>> {name: len(edges) for name, edges in mesh.interfaces.items()}
-        {'bottom|core': 24, 'core|top': 24}
-        """
-        return labels.interfaces_by_name(self)
-
     def interface_cells(self) -> np.ndarray:
         """The two cells of every interface edge, (Ei, 2): the one on its left, then its right.
 
@@ -533,42 +494,9 @@ class PolygonMesh:
         return labels.interface_cells(self, self.polygon_cells())
 
     # ------------------------------------------------------------------ copies
-    def _copy(self, **changes: Any) -> PolygonMesh:
-        return labels.copy_mesh(self, changes)
-
     def renumbered(self, order: np.ndarray) -> PolygonMesh:
         """The same mesh with node ``order[k]`` renamed ``k`` (a permutation of ``0..N-1``)."""
         return numbering.renumbered(self, order, "nodes")
-
-    def with_patches(self, boundary_patch: Any, patch_names: Any) -> PolygonMesh:
-        """The same mesh with its boundary edges put in other patches."""
-        return labels.with_patches(self, boundary_patch, patch_names)
-
-    def with_regions(self, region: Any, region_names: Any) -> PolygonMesh:
-        """The same mesh with its cells put in other regions (``region`` indexes the names)."""
-        return labels.with_regions(self, region, region_names)
-
-    def with_interfaces(
-        self, interface_edges: Any, interface_patch: Any, interface_names: Any
-    ) -> PolygonMesh:
-        """The same mesh with other interfaces (internal patches); each edge is checked.
-
-        Examples
-        --------
-        >>> pts = [(0, 0), (1, 0), (2, 0), (2, 1), (1, 1), (0, 1)]
-        >>> mesh = PolygonMesh.from_cells(pts, [[0, 1, 4, 5], [1, 2, 3, 4]])
-        >>> mesh.with_interfaces([[1, 4]], [0], ["glue"]).interface_cells().tolist()
-        [[0, 1]]
-        """
-        return labels.with_interfaces(self, interface_edges, interface_patch, interface_names)
-
-    def with_points(self, points: Any) -> PolygonMesh:
-        """The same cells on moved nodes; orientation and star shape are checked again."""
-        return labels.with_points(self, points)
-
-    def with_name(self, name: str) -> PolygonMesh:
-        """The same mesh under another name."""
-        return self._copy(name=name)
 
     def nbytes(self) -> int:
         """Bytes held by the mesh's arrays."""

@@ -13,9 +13,21 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 __all__ = ["MeshQuality"]
+
+#: What a :class:`MeshQuality` is made of: its fields but the area ratio, which it finds.
+_MEASURED = (
+    "min_angle",
+    "max_angle",
+    "max_aspect_ratio",
+    "min_area",
+    "max_area",
+    "not_strictly_convex",
+)
 
 
 @dataclass(frozen=True)
@@ -50,6 +62,11 @@ class MeshQuality:
         return cls(
             min_angle, max_angle, max_aspect_ratio, min_area, max_area, ratio, not_strictly_convex
         )
+
+    @classmethod
+    def from_measures(cls, measures: Mapping[str, Any]) -> MeshQuality:
+        """The quality of measured cells from a mapping holding the arguments of :meth:`of`."""
+        return cls.of(**{name: measures[name] for name in _MEASURED})
 
     def as_dict(self) -> dict[str, float | int]:
         """Plain dictionary (JSON-ready)."""

@@ -19,7 +19,8 @@ Examples
 [0.01, 0.1]
 """
 
-from blockmesh.sizing.fields import (
+from blockmesh.sizing import fields
+from blockmesh.sizing.fields import (  # noqa: F401 (given through fields.FIELD_NAMES)
     PENTAGON_AREA,
     Callback,
     Constant,
@@ -35,16 +36,9 @@ from blockmesh.sizing.predict import CellCount, ideal_count, mesh_ideal_count
 from blockmesh.sizing.spec import SizeSpec, as_size_spec
 
 __all__ = [
+    *fields.FIELD_NAMES,
     "DEFAULT_GRADATION",
-    "PENTAGON_AREA",
-    "Callback",
     "CellCount",
-    "Constant",
-    "Expression",
-    "InRegion",
-    "Minimum",
-    "Near",
-    "SizeField",
     "SizeReport",
     "SizeSpec",
     "as_size_spec",

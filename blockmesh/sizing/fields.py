@@ -50,7 +50,8 @@ from blockmesh.errors import (
 )
 from blockmesh.numerics.expr import parse_expression
 
-__all__ = [
+#: The names :mod:`blockmesh.sizing` gives from this module: the size fields and the constant.
+FIELD_NAMES = (
     "PENTAGON_AREA",
     "Callback",
     "Constant",
@@ -59,10 +60,9 @@ __all__ = [
     "Minimum",
     "Near",
     "SizeField",
-    "as_field",
-    "checked_size",
-    "checked_sizes",
-]
+)
+
+__all__ = [*FIELD_NAMES, "as_field", "checked_size", "checked_sizes"]
 
 #: Area of a regular pentagon of diameter 1 (its diagonal): a mesh of cells of diameter at most
 #: h covers at most this times h^2 per cell, so it has at least ``area / (PENTAGON_AREA h^2)``.
@@ -181,8 +181,20 @@ def _check_finite_sizes(
 
 
 # ---------------------------------------------------------------------------- kinds
+class OneSize(SizeField):
+    """A field that asks one size wherever it asks any (:class:`Constant`, :class:`InRegion`)."""
+
+    #: The size asked.
+    size: float
+
+    @property
+    def smallest(self) -> float:
+        """The size."""
+        return self.size
+
+
 @dataclass(frozen=True)
-class Constant(SizeField):
+class Constant(OneSize):
     """One size everywhere.
 
     Examples
@@ -200,11 +212,6 @@ class Constant(SizeField):
     def values(self, xy: np.ndarray) -> np.ndarray:
         """The size at every point."""
         return np.full(len(xy), self.size)
-
-    @property
-    def smallest(self) -> float:
-        """The size."""
-        return self.size
 
 
 @dataclass(frozen=True, eq=False)
@@ -416,7 +423,7 @@ class Near(SizeField):
 
 
 @dataclass(frozen=True, eq=False)
-class InRegion(SizeField):
+class InRegion(OneSize):
     """A size inside a shapely (multi)polygon, nothing (``inf``) outside.
 
     Examples
@@ -452,11 +459,6 @@ class InRegion(SizeField):
         parts = shapely.get_parts(self.polygon)
         inner = shapely.get_coordinates(shapely.point_on_surface(parts))
         return np.vstack([inner, corners])
-
-    @property
-    def smallest(self) -> float:
-        """The size."""
-        return self.size
 
 
 @dataclass(frozen=True, eq=False)
