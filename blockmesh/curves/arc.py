@@ -25,9 +25,9 @@ from blockmesh.curves.base import (
     SHAPE_TOL,
     Curve,
     Point,
-    as_parameters,
     as_point,
     cross,
+    parameters,
     store,
     unset_array,
 )
@@ -151,7 +151,7 @@ class Arc(Curve):
     def point(self, t: Any) -> np.ndarray:
         """Points ``c + R (cos θ, sin θ)`` at ``θ = θ0 + tΔ``; exactly the ends at 0 and 1."""
         p, q = self._ends()
-        t = as_parameters(t)
+        t = parameters(t)
         angle = self._theta[0] + t * self._theta[1]
         out = np.stack([np.cos(angle), np.sin(angle)], axis=-1) * self._r + self._c
         out[t == 0] = p
@@ -161,13 +161,13 @@ class Arc(Curve):
     def derivative(self, t: Any) -> np.ndarray:
         """``RΔ (-sin θ, cos θ)``."""
         self._ends()
-        angle = self._theta[0] + as_parameters(t) * self._theta[1]
+        angle = self._theta[0] + parameters(t) * self._theta[1]
         return np.stack([-np.sin(angle), np.cos(angle)], axis=-1) * (self._r * self._theta[1])
 
     def segment_area(self, t0: Any, t1: Any) -> np.ndarray:
         """``(R²/2)(φ - sin φ)`` with ``φ = Δ (t1 - t0)`` (the circular segment, signed)."""
         self._ends()
-        phi = (as_parameters(t1) - as_parameters(t0)) * self._theta[1]
+        phi = (parameters(t1) - parameters(t0)) * self._theta[1]
         # φ - sin φ loses digits for small φ; its series is accurate there.
         small = np.abs(phi) < 1e-2
         phi2 = phi * phi

@@ -58,12 +58,26 @@ def as_point(value: object, what: str) -> Point:
     return (x, y)
 
 
+def as_points(value: object, what: str) -> tuple[Point, ...]:
+    """``value`` as a non-empty tuple of points (a curve's interior points), checked."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, str | bytes) or not isinstance(value, Iterable):
+        raise DomainFormatError(f"{what} must be a list of [x, y] pairs, got {value!r}")
+    points = tuple(as_point(p, f"{what} {k}") for k, p in enumerate(value))
+    if not points:
+        raise DomainFormatError(
+            f"{what} is empty: give at least one interior point (a straight edge needs no entry)"
+        )
+    return points
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The cross product ``a x b`` of 2-D vectors (the last axis), a scalar each."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
-def as_parameters(t: Any) -> np.ndarray:
+def parameters(t: Any) -> np.ndarray:
     """Parameters as a float64 array (of any shape)."""
     return np.asarray(t, dtype=np.float64)
 

@@ -18,23 +18,13 @@ Examples
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
 
-from blockmesh.curves.base import (
-    SHAPE_TOL,
-    Curve,
-    Point,
-    as_parameters,
-    as_point,
-    cross,
-    store,
-    unset_array,
-)
-from blockmesh.errors import DomainError, DomainFormatError, fmt_point
+from blockmesh.curves.base import SHAPE_TOL, Curve, as_points, cross, parameters, store, unset_array
+from blockmesh.errors import DomainError, fmt_point
 
 __all__ = ["MAX_CURVE_POINTS", "Polyline", "Spline"]
 
@@ -42,24 +32,11 @@ __all__ = ["MAX_CURVE_POINTS", "Polyline", "Spline"]
 MAX_CURVE_POINTS = 5_000
 
 
-def _points(value: object, what: str) -> tuple[Point, ...]:
-    if isinstance(value, np.ndarray):
-        value = value.tolist()
-    if isinstance(value, str | bytes) or not isinstance(value, Iterable):
-        raise DomainFormatError(f"{what} must be a list of [x, y] pairs, got {value!r}")
-    points = tuple(as_point(p, f"{what} {k}") for k, p in enumerate(value))
-    if not points:
-        raise DomainFormatError(
-            f"{what} is empty: give at least one interior point (a straight edge needs no entry)"
-        )
-    return points
-
-
 @dataclass(frozen=True)
 class _Pieces(Curve):
     """A curve through ``start``, the interior ``points`` and ``end``, in pieces."""
 
-    points: tuple[Point, ...] = ()
+    points: tuple[tuple[float, float], ...] = ()
     _knots: np.ndarray = field(default_factory=unset_array, init=False, repr=False, compare=False)
     _nodes: np.ndarray = field(default_factory=unset_array, init=False, repr=False, compare=False)
 
@@ -69,7 +46,7 @@ class _Pieces(Curve):
                 f"the {self.kind} has {len(self.points):,} points; at most {MAX_CURVE_POINTS:,} "
                 "(a curve of more is a polygon: give its corners)"
             )
-        store(self, points=_points(self.points, f"the {self.kind}'s points"))
+        store(self, points=as_points(self.points, f"the {self.kind}'s points"))
 
     def _prepare(self, where: str) -> None:
         p, q = self._ends()
@@ -137,7 +114,7 @@ class Polyline(_Pieces):
     def point(self, t: Any) -> np.ndarray:
         """Linear interpolation between the points."""
         self._ends()
-        t = as_parameters(t)
+        t = parameters(t)
         piece, _, u = self._locate(t)
         a, b = self._nodes[piece], self._nodes[piece + 1]
         out = a + u[..., None] * (b - a)
@@ -147,7 +124,7 @@ class Polyline(_Pieces):
     def derivative(self, t: Any) -> np.ndarray:
         """Constant on each piece (the right-hand derivative at the points)."""
         self._ends()
-        piece, width, _ = self._locate(as_parameters(t))
+        piece, width, _ = self._locate(parameters(t))
         return (self._nodes[piece + 1] - self._nodes[piece]) / width[..., None]
 
     def segment_area(self, t0: Any, t1: Any) -> np.ndarray:
@@ -195,7 +172,7 @@ class Spline(_Pieces):
 
     def _hermite(self, t: Any, derivative: bool) -> np.ndarray:
         self._ends()
-        t = as_parameters(t)
+        t = parameters(t)
         piece, width, u = self._locate(t)
         p0, p1 = self._nodes[piece], self._nodes[piece + 1]
         m0 = self._tangents[piece] * width[..., None]
@@ -241,7 +218,7 @@ class Spline(_Pieces):
 
 def _piecewise_segment_area(curve: _Pieces, t0: Any, t1: Any, n: int) -> np.ndarray:
     """``segment_area`` by ``n``-point Gauss-Legendre on every piece of every interval."""
-    t0, t1 = np.broadcast_arrays(as_parameters(t0), as_parameters(t1))
+    t0, t1 = np.broadcast_arrays(parameters(t0), parameters(t1))
     owner, left, right = curve.pieces(t0.ravel(), t1.ravel())
     x, w = np.polynomial.legendre.leggauss(n)
     s = left[:, None] + (right - left)[:, None] * (x + 1) / 2

@@ -323,11 +323,7 @@ def compose(
 
 
 def from_mesh(
-    cls: type[Domain],
-    source: Any,
-    *,
-    name: str | None = None,
-    description: str = "",
+    cls: type[Domain], source: Any, *, name: str | None = None, description: str = ""
 ) -> Domain:
     """A domain from an existing triangle, quadrilateral or mixed mesh (pentagonal conversion).
 
