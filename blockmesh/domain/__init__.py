@@ -1,7 +1,9 @@
 """The validated multi-block domain every mesh starts from, and where domains come from.
 
 - :mod:`~blockmesh.domain.domain`: :class:`Domain`, its fields, and one thin method per
-  constructor, query and meshing entry point;
+  query and meshing entry point;
+- :mod:`~blockmesh.domain.constructors`: the alternate constructors (``from_polygon``,
+  ``from_blocks``, ...), bound to :class:`Domain` as classmethods;
 - :mod:`~blockmesh.domain.assemble`: the fields checked and stored, however a Domain is made;
 - :mod:`~blockmesh.domain.validate`: checks and repairs of input, each failure located (points,
   rings, blocks, topology, names);

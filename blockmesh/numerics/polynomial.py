@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from blockmesh.errors import ArgumentError, ArgumentTypeError
+from blockmesh.numerics.compiling import compile_node
 from blockmesh.numerics.syntax import CONSTANTS, chain_links
 
 if TYPE_CHECKING:
@@ -89,13 +90,13 @@ class _Expander:
         self.budget = MAX_EXPANSION_WORK
 
     def run(self) -> Polynomial:
-        return self.node(self.expression._tree.body)
+        return self.node(self.expression._parsed.tree.body)
 
     def fail(self, node: ast.AST, message: str) -> None:
-        self.expression._fail_node(node, message)
+        self.expression._parsed.fail_node(node, message)
 
     def text(self, node: ast.AST) -> str:
-        return self.expression._text(node)
+        return self.expression._parsed.text(node)
 
     def node(self, node: ast.AST) -> Polynomial:
         try:
@@ -126,7 +127,7 @@ class _Expander:
             ):
                 name = node.func.id if isinstance(node.func, ast.Name) else "a function"
                 self.fail(node, f"not a polynomial: {name}(...) of x or y")
-            value = self.expression._build(node)
+            value = compile_node(self.expression._parsed, node)
             return _constant(float(value))  # type: ignore[arg-type]
         if not isinstance(node, ast.BinOp):  # pragma: no cover - the tree is vetted
             self.fail(node, f"{type(node).__name__} is not allowed")

@@ -1,9 +1,10 @@
 """What expressions and their expansion share: the named constants and chains of operators.
 
 A chain is a left-associated run of binary operators other than ``**``, ``((a + b) - c) * d``:
-Python's parser nests it to the left, and both the evaluator (:mod:`~blockmesh.numerics.expr`)
-and the expansion into polynomials (:mod:`~blockmesh.numerics.polynomial`) walk it as a flat
-list, so that a sum of ten thousand terms does not recurse ten thousand deep.
+Python's parser nests it to the left, and the depth check (:mod:`~blockmesh.numerics.parsing`),
+the compiler (:mod:`~blockmesh.numerics.compiling`) and the expansion into polynomials
+(:mod:`~blockmesh.numerics.polynomial`) walk it as a flat list, so that a sum of ten thousand
+terms does not recurse ten thousand deep.
 
 Examples
 --------
