@@ -37,12 +37,12 @@ def _option(parser: argparse.ArgumentParser, name: str) -> argparse.Action | Non
 
 def test_the_shared_options_are_spelled_only_in_the_options_module() -> None:
     """No command module defines a shared option itself (one definition, one meaning)."""
-    for path in sorted(COMMANDS.glob("*.py")):
+    for path in sorted(COMMANDS.rglob("*.py")):
         if path.name == "options.py":
             continue
         text = path.read_text(encoding="utf-8")
         for name in SHARED:
-            defined = re.search(rf'add_argument\(\s*"{name}"', text)
+            defined = re.search(rf'(add_argument|Option)\(\s*"{name}"', text)
             assert defined is None, f"{path.name} defines {name} itself: use commands/options.py"
 
 
