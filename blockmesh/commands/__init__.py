@@ -96,6 +96,7 @@ __all__ = [
     "Group",
     "Option",
     "Options",
+    "Register",
     "add_command",
     "load",
     "registration",
@@ -119,6 +120,11 @@ class Option:
     def __init__(self, *flags: str, **settings: Any) -> None:
         self.flags = flags
         self.settings = settings
+
+    def __repr__(self) -> str:
+        given = [repr(flag) for flag in self.flags]
+        given += [f"{key}={value!r}" for key, value in self.settings.items()]
+        return f"Option({', '.join(given)})"
 
     def add_to(self, parser: argparse._ActionsContainer) -> None:
         """Add the option to ``parser`` (a parser or an argument group)."""

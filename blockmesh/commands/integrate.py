@@ -37,7 +37,7 @@ from blockmesh.quadrature import (
 from blockmesh.quadrature.exact import exact_integral
 from blockmesh.refinement.pipeline import MAX_LEVEL
 
-__all__ = ["register", "run"]
+__all__ = ["OPTIONS", "register", "run"]
 
 _DEFAULT_LEVEL = 2
 _DEFAULT_ORDER = 10

@@ -56,7 +56,7 @@ from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poiss
 from blockmesh.vem.fields import scalar_field, split_pair
 from blockmesh.vem.output import SOLUTION_FORMATS, write_solution
 
-__all__ = ["register", "run"]
+__all__ = ["OPTIONS", "register", "run"]
 
 EQUATIONS = ("poisson", "elasticity")
 

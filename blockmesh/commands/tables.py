@@ -13,7 +13,7 @@ from blockmesh.quadrature import RULES
 from blockmesh.tables import PENTAGONS, TABLES, PaperTable, compute_table, format_table, write_csv
 from blockmesh.tables.plot import plot_convergence
 
-__all__ = ["register", "run"]
+__all__ = ["OPTIONS", "register", "run"]
 
 
 #: Most numbers a list option may name (a range like 1-1000000000 is refused, not expanded).

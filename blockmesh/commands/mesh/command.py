@@ -1,4 +1,4 @@
-"""``blockmesh mesh``: its parser, and the run that sends the arguments on.
+"""``blockmesh mesh``: its options, and the run that sends the arguments on.
 
 One domain goes to :mod:`~blockmesh.commands.mesh.single`, several to
 :mod:`~blockmesh.commands.mesh.batch`, ``--partitions`` to
