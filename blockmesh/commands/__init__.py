@@ -1,10 +1,11 @@
 """Subcommands of the ``blockmesh`` command line, one module each.
 
-A command module has ``register(subparsers)``, which adds its parser with :func:`add_command`
-(``run`` the parser's default) and then its options, and ``run(args) -> int``. The texts around
-a command's options, its summary, description and example, are here, one table each; shared
-options are in :mod:`blockmesh.commands.options`, output helpers in
-:mod:`blockmesh.commands.common`.
+A command module declares its options as data, next to its ``run(args) -> int``: ``OPTIONS``, a
+tuple of :class:`Option` records (``add_argument``'s arguments) and :class:`Group` records (a
+heading of its own in ``--help``), and ``register = registration(NAME, OPTIONS, run)``, which adds
+its parser with :func:`add_command` and then the options. The texts around a command's options,
+its summary, description and example, are here, one table each; shared options are in
+:mod:`blockmesh.commands.options`, output helpers in :mod:`blockmesh.commands.common`.
 
 The modules are imported only when their command runs (:func:`load`): ``blockmesh --help`` lists
 the commands from :data:`SUMMARIES` alone, so that it and ``--version`` start fast. A test checks
@@ -17,6 +18,7 @@ import argparse
 import importlib
 from collections.abc import Callable
 from types import ModuleType
+from typing import Any
 
 #: Subcommand name -> its one-line help, in the order ``blockmesh --help`` lists them.
 SUMMARIES = {
@@ -86,7 +88,19 @@ EXAMPLES = {
     "--dirichlet '*=0' --exact-solution \"sin(pi*x)*sin(pi*y)\"",
 }
 
-__all__ = ["COMMANDS", "DESCRIPTIONS", "EXAMPLES", "SUMMARIES", "add_command", "load"]
+__all__ = [
+    "COMMANDS",
+    "DESCRIPTIONS",
+    "EXAMPLES",
+    "SUMMARIES",
+    "Group",
+    "Option",
+    "Options",
+    "Register",
+    "add_command",
+    "load",
+    "registration",
+]
 
 
 def load(name: str) -> ModuleType:
@@ -94,12 +108,70 @@ def load(name: str) -> ModuleType:
     return importlib.import_module(f".{name}", __name__)
 
 
+class Option:
+    """One option (or positional argument) of a command, as data.
+
+    ``Option(*flags, **settings)`` is added as ``parser.add_argument(*flags, **settings)``:
+    ``Option("--order", type=int, metavar="N", help="...")``.
+    """
+
+    __slots__ = ("flags", "settings")
+
+    def __init__(self, *flags: str, **settings: Any) -> None:
+        self.flags = flags
+        self.settings = settings
+
+    def __repr__(self) -> str:
+        given = [repr(flag) for flag in self.flags]
+        given += [f"{key}={value!r}" for key, value in self.settings.items()]
+        return f"Option({', '.join(given)})"
+
+    def add_to(self, parser: argparse._ActionsContainer) -> None:
+        """Add the option to ``parser`` (a parser or an argument group)."""
+        parser.add_argument(*self.flags, **self.settings)
+
+
+class Group:
+    """Options listed under a heading of their own in ``--help`` (an argparse argument group)."""
+
+    __slots__ = ("description", "options", "title")
+
+    def __init__(self, title: str, description: str, *options: Option) -> None:
+        self.title = title
+        self.description = description
+        self.options = options
+
+    def add_to(self, parser: argparse._ActionsContainer) -> None:
+        """Add the group and its options to ``parser``."""
+        group = parser.add_argument_group(self.title, self.description)
+        for option in self.options:
+            option.add_to(group)
+
+
+#: A command's options, in the order its ``--help`` lists them.
+Options = tuple[Option | Group, ...]
+
+#: What ``blockmesh`` calls to add a command: ``register(subparsers)`` returns its parser.
+Register = Callable[[argparse._SubParsersAction], argparse.ArgumentParser]
+
+
+def registration(name: str, options: Options, run: Callable[[argparse.Namespace], int]) -> Register:
+    """The ``register(subparsers)`` of subcommand ``name``: :func:`add_command` with ``options``."""
+
+    def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+        return add_command(subparsers, name, run, options)
+
+    register.__doc__ = f"Add the ``{name}`` subcommand and its options to ``subparsers``."
+    return register
+
+
 def add_command(
     subparsers: argparse._SubParsersAction,
     name: str,
     run: Callable[[argparse.Namespace], int],
+    options: Options = (),
 ) -> argparse.ArgumentParser:
-    """Add subcommand ``name`` to ``subparsers``: its parser, which runs ``run``.
+    """Add subcommand ``name`` to ``subparsers``: its parser, which runs ``run``, and ``options``.
 
     The parser's texts are the command's entries in :data:`SUMMARIES` (its help),
     :data:`DESCRIPTIONS` and :data:`EXAMPLES` (its epilog, ``example: ...``).
@@ -112,11 +184,13 @@ def add_command(
         The subcommand's name.
     run
         What runs the parsed arguments (the parser's default ``run``).
+    options
+        The subcommand's options, added in order.
 
     Returns
     -------
     argparse.ArgumentParser
-        The subcommand's parser, for its options.
+        The subcommand's parser.
     """
     example = EXAMPLES.get(name)
     parser = subparsers.add_parser(
@@ -126,6 +200,8 @@ def add_command(
         epilog=None if example is None else f"example: {example}",
     )
     parser.set_defaults(run=run)
+    for option in options:
+        option.add_to(parser)
     return parser
 
 

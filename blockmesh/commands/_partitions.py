@@ -6,14 +6,15 @@ import argparse
 from typing import TypedDict
 
 from blockmesh._system.memory import format_bytes
+from blockmesh.commands import Option
 from blockmesh.commands.common import check_range
 from blockmesh.errors import BlockMeshError
 
 __all__ = [
     "PartitionKeywords",
-    "add_partition_arguments",
     "check_partition_arguments",
     "partition_keywords",
+    "partition_options",
 ]
 
 
@@ -25,25 +26,27 @@ class PartitionKeywords(TypedDict):
     scheduler: str | None
 
 
-def add_partition_arguments(parser: argparse.ArgumentParser, what: str) -> None:
-    """Add ``--partitions``, ``--workers`` and ``--scheduler``; ``what`` says what P pieces do."""
-    parser.add_argument(
-        "--partitions",
-        type=int,
-        metavar="P",
-        help=f"{what} in P partitions on a Dask cluster (needs pip install "
-        "'blockmesh[distributed]')",
-    )
-    parser.add_argument(
-        "--workers",
-        type=int,
-        metavar="N",
-        help="with --partitions: a local cluster of N worker processes (default: one per core)",
-    )
-    parser.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        help="with --partitions: a running Dask scheduler (e.g. tcp://host:8786) instead",
+def partition_options(what: str) -> tuple[Option, ...]:
+    """``--partitions``, ``--workers`` and ``--scheduler``; ``what`` says what P pieces do."""
+    return (
+        Option(
+            "--partitions",
+            type=int,
+            metavar="P",
+            help=f"{what} in P partitions on a Dask cluster (needs pip install "
+            "'blockmesh[distributed]')",
+        ),
+        Option(
+            "--workers",
+            type=int,
+            metavar="N",
+            help="with --partitions: a local cluster of N worker processes (default: one per core)",
+        ),
+        Option(
+            "--scheduler",
+            metavar="ADDRESS",
+            help="with --partitions: a running Dask scheduler (e.g. tcp://host:8786) instead",
+        ),
     )
 
 

@@ -5,17 +5,14 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from blockmesh.commands import add_command
+from blockmesh.commands import Options, registration
 from blockmesh.commands.common import print_json
-from blockmesh.commands.options import add_json_option
+from blockmesh.commands.options import JSON_OPTION
 from blockmesh.domain.catalogue import catalogue_names
 from blockmesh.domain.loading import load_domain
 
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``catalogue`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "catalogue", run)
-    add_json_option(parser)
+#: The options of ``blockmesh catalogue``, in the order of its ``--help``.
+OPTIONS: Options = (JSON_OPTION,)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,3 +49,6 @@ def run(args: argparse.Namespace) -> int:
             f"{listed:<{patch_width}}  {row['description']}"
         )
     return 0
+
+
+register = registration("catalogue", OPTIONS, run)

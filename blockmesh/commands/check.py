@@ -8,15 +8,15 @@ import warnings
 
 import numpy as np
 
-from blockmesh.commands import add_command
+from blockmesh.commands import Options, registration
 from blockmesh.commands.common import (
-    add_domain_arguments,
+    domain_arguments,
     json_error,
     print_json,
     printable,
     resolve_target,
 )
-from blockmesh.commands.options import add_json_option
+from blockmesh.commands.options import JSON_OPTION
 from blockmesh.domain.blockgraph import certificate
 from blockmesh.domain.curve_checks import CHECK_LEVELS
 from blockmesh.domain.domain import Domain
@@ -26,12 +26,8 @@ from blockmesh.mesh.labels import interface_summary
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``check`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "check", run)
-    add_domain_arguments(parser)
-    add_json_option(parser)
+#: The options of ``blockmesh check``, in the order of its ``--help``.
+OPTIONS: Options = (*domain_arguments(), JSON_OPTION)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -70,6 +66,9 @@ def run(args: argparse.Namespace) -> int:
     if domain.curves:
         print(_curves_line(domain))
     return 0
+
+
+register = registration("check", OPTIONS, run)
 
 
 def polygon_report(mesh: PolygonMesh) -> dict:

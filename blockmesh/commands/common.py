@@ -19,6 +19,7 @@ import numpy as np
 
 from blockmesh import io as mesh_io
 from blockmesh._system.bounded import file_kind, reading
+from blockmesh.commands import Option
 from blockmesh.commands._progress import StageProgress, printable
 from blockmesh.domain.domain import Domain
 from blockmesh.domain.loading import load_domain, parse_polygon_string
@@ -30,10 +31,10 @@ from blockmesh.refinement.pipeline import MAX_LEVEL, MAX_SMOOTH
 
 __all__ = [
     "ProgressBar",
-    "add_domain_arguments",
     "check_folders",
     "check_level_options",
     "check_range",
+    "domain_arguments",
     "fill_template",
     "inline_polygon",
     "is_mesh_file",
@@ -51,38 +52,44 @@ __all__ = [
 ]
 
 
-def add_domain_arguments(parser: argparse.ArgumentParser, *, many: bool = False) -> None:
-    """Add ``DOMAIN`` (catalogue name or file; several with ``many``), ``--polygon``, ``--hole``."""
-    parser.add_argument(
-        "domain",
-        metavar="DOMAIN",
-        nargs="*" if many else "?",
-        help="catalogue name (see 'blockmesh catalogue'), a domain file (.toml, .wkt, .geojson) "
-        "or a mesh file blockmesh wrote (.npz, .vtu, .xdmf, .msh, .mat, .vtk)"
-        + ("; several names, files or globs" if many else ""),
-    )
-    parser.add_argument(
-        "--polygon",
-        metavar='"x1,y1 x2,y2 ..."',
-        help="a polygon (convex or not) given inline instead of DOMAIN (decomposed automatically)",
-    )
-    parser.add_argument(
-        "--hole",
-        metavar='"x1,y1 x2,y2 ..."',
-        action="append",
-        default=[],
-        help="a hole in the --polygon (repeat for more holes)",
-    )
-    parser.add_argument(
-        "--patch",
-        metavar="NAME=EDGES",
-        action="append",
-        default=[],
-        help="name edges of a --polygon or of a .wkt/.geojson outline as patch NAME (repeat for "
-        "more patches): EDGES is a comma list of edge numbers (edge i runs from corner i to "
-        "i+1, from 0), ranges such as 2-4, 'hole K' (every edge of hole K), 'hole K:E', or "
-        "left, right, top, bottom (the outer edges facing that way); other edges stay in "
-        "'boundary'",
+def domain_arguments(*, many: bool = False) -> tuple[Option, ...]:
+    """``DOMAIN`` (a catalogue name or file; several with ``many``) and the inline polygon.
+
+    ``--polygon`` instead of ``DOMAIN``, ``--hole`` in it and ``--patch`` naming its edges.
+    """
+    return (
+        Option(
+            "domain",
+            metavar="DOMAIN",
+            nargs="*" if many else "?",
+            help="catalogue name (see 'blockmesh catalogue'), a domain file (.toml, .wkt, "
+            ".geojson) or a mesh file blockmesh wrote (.npz, .vtu, .xdmf, .msh, .mat, .vtk)"
+            + ("; several names, files or globs" if many else ""),
+        ),
+        Option(
+            "--polygon",
+            metavar='"x1,y1 x2,y2 ..."',
+            help="a polygon (convex or not) given inline instead of DOMAIN (decomposed "
+            "automatically)",
+        ),
+        Option(
+            "--hole",
+            metavar='"x1,y1 x2,y2 ..."',
+            action="append",
+            default=[],
+            help="a hole in the --polygon (repeat for more holes)",
+        ),
+        Option(
+            "--patch",
+            metavar="NAME=EDGES",
+            action="append",
+            default=[],
+            help="name edges of a --polygon or of a .wkt/.geojson outline as patch NAME (repeat "
+            "for more patches): EDGES is a comma list of edge numbers (edge i runs from corner i "
+            "to i+1, from 0), ranges such as 2-4, 'hole K' (every edge of hole K), 'hole K:E', or "
+            "left, right, top, bottom (the outer edges facing that way); other edges stay in "
+            "'boundary'",
+        ),
     )
 
 

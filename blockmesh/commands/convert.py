@@ -8,36 +8,31 @@ from pathlib import Path
 
 import numpy as np
 
-from blockmesh.commands import add_command
+from blockmesh.commands import Option, Options, registration
 from blockmesh.commands.common import check_folders, check_level_options, print_json, printable
-from blockmesh.commands.options import add_json_option, add_level_option
+from blockmesh.commands.options import JSON_OPTION, level_option
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import ArgumentError
 from blockmesh.io import SPLITS, write
 
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``convert`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "convert", run)
-    parser.add_argument("input", metavar="IN", help="the mesh file to convert")
-    parser.add_argument(
+#: The options of ``blockmesh convert``, in the order of its ``--help``.
+OPTIONS: Options = (
+    Option("input", metavar="IN", help="the mesh file to convert"),
+    Option(
         "-o",
         "--output",
         required=True,
         metavar="OUT",
         help="a .toml domain file, or a mesh file in any format 'blockmesh mesh' writes",
-    )
-    add_level_option(
-        parser, "refinement levels for a mesh output (default 0: the blocks themselves)", 0
-    )
-    parser.add_argument(
-        "--format", metavar="FORMAT", help="output format, overriding the extension"
-    )
-    parser.add_argument(
+    ),
+    level_option("refinement levels for a mesh output (default 0: the blocks themselves)", 0),
+    Option("--format", metavar="FORMAT", help="output format, overriding the extension"),
+    Option(
         "--split", choices=SPLITS, help="how .msh output splits pentagons (gmsh has no pentagons)"
-    )
-    parser.add_argument("--name", help="the domain's name (default: the input file's stem)")
-    add_json_option(parser)
+    ),
+    Option("--name", help="the domain's name (default: the input file's stem)"),
+    JSON_OPTION,
+)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -91,3 +86,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"  region {printable(name)}: {count} blocks")
     print(f"wrote {printable(str(written))} (level {args.level}, {cells:,} cells)")
     return 0
+
+
+register = registration("convert", OPTIONS, run)

@@ -9,22 +9,22 @@ from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any
 
-from blockmesh.commands import add_command
+from blockmesh.commands import Option, Options, registration
 from blockmesh.commands._partitions import (
-    add_partition_arguments,
     check_partition_arguments,
     partition_keywords,
+    partition_options,
 )
 from blockmesh.commands.common import (
-    add_domain_arguments,
     check_level_options,
     check_range,
+    domain_arguments,
     levels_to_add,
     print_json,
     printable,
     resolve_target,
 )
-from blockmesh.commands.options import add_json_option, add_level_option, add_renamed_flag
+from blockmesh.commands.options import JSON_OPTION, level_option, renamed_flag
 from blockmesh.errors import BlockMeshError, BlockMeshWarning, ResourceError
 from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
@@ -37,75 +37,71 @@ from blockmesh.quadrature import (
 from blockmesh.quadrature.exact import exact_integral
 from blockmesh.refinement.pipeline import MAX_LEVEL
 
-__all__ = ["register", "run"]
+__all__ = ["OPTIONS", "register", "run"]
 
 _DEFAULT_LEVEL = 2
 _DEFAULT_ORDER = 10
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``integrate`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "integrate", run)
-    add_domain_arguments(parser)
-    parser.add_argument(
+#: The options of ``blockmesh integrate``, in the order of its ``--help``.
+OPTIONS: Options = (
+    *domain_arguments(),
+    Option(
         "--function",
         "-f",
         required=True,
         metavar="EXPR",
         help="f(x, y): numbers, x, y, pi, e, + - * / ^ (or **), and sin cos tan exp log sqrt abs "
         "... (see blockmesh.numerics.expr.FUNCTIONS)",
-    )
-    add_level_option(
-        parser,
+    ),
+    level_option(
         f"refinement level: 6^L cells per block (default {_DEFAULT_LEVEL}; a mesh file keeps "
         "its own level, and L more levels refine it further; with --tol: the starting level, "
         "default 0)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--order",
         type=int,
         metavar="N",
         help=f"order n of the rule, exact to degree 2n-1 (default {_DEFAULT_ORDER}; with --tol: "
         "the starting order, default 2)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--rule",
         choices=tuple(RULES),
         help="paper: the paper's rule (default); jacobi, fan: fewer points, same degree "
         "(jacobi is the default with --tol)",
-    )
-    add_renamed_flag(
-        parser,
+    ),
+    renamed_flag(
         "--exact-integral",
         "--exact",
         dest="exact",
         help="also the exact integral over the domain (polynomials only), as a fraction "
         "(--exact is the earlier spelling)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--exact-geometry",
         action="store_true",
         help="integrate the cells with curved edges over their true curved shape (default: the "
         "straight cells through their nodes)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--tol",
         type=float,
         metavar="T",
         help="integrate to an absolute error estimate <= T, choosing order and level",
-    )
-    parser.add_argument(
-        "--max-level", type=int, default=6, metavar="L", help="with --tol: highest level (6)"
-    )
-    parser.add_argument(
+    ),
+    Option("--max-level", type=int, default=6, metavar="L", help="with --tol: highest level (6)"),
+    Option(
         "--max-points",
         type=int,
         metavar="P",
         help="most evaluations of f (default 1,000,000,000; with --tol 200,000,000): larger "
         "requests are refused before any work",
-    )
-    add_partition_arguments(parser, "integrate")
-    add_json_option(parser)
+    ),
+    *partition_options("integrate"),
+    JSON_OPTION,
+)
 
 
 def _decimal(value: Fraction, digits: int = 22) -> str:
@@ -250,3 +246,6 @@ def run(args: argparse.Namespace) -> int:
         file=sys.stderr,
     )
     return 0
+
+
+register = registration("integrate", OPTIONS, run)

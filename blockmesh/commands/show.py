@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from blockmesh.commands import add_command
+from blockmesh.commands import Option, Options, registration
 from blockmesh.commands.common import (
-    add_domain_arguments,
+    domain_arguments,
     plural,
     printable,
     resolve_target,
@@ -16,22 +16,19 @@ from blockmesh.mesh.mesh import Mesh
 from blockmesh.mesh.polygons import PolygonMesh
 from blockmesh.plot import LABEL_LIMIT, LABELS, plot_domain, plot_mesh
 
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``show`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "show", run)
-    add_domain_arguments(parser)
-    parser.add_argument(
-        "-o", "--output", metavar="FILE.png", help="picture file (default: NAME.png, here)"
-    )
-    parser.add_argument(
+#: The options of ``blockmesh show``, in the order of its ``--help``.
+OPTIONS: Options = (
+    *domain_arguments(),
+    Option("-o", "--output", metavar="FILE.png", help="picture file (default: NAME.png, here)"),
+    Option(
         "--labels",
         choices=LABELS,
         default="auto",
         help="number the blocks: auto (default) where the number fits inside its block, so that "
         "none overlap; all; or none (a mesh file: its cells and nodes, auto up to "
         f"{LABEL_LIMIT} cells)",
-    )
+    ),
+)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -47,3 +44,6 @@ def run(args: argparse.Namespace) -> int:
         what = plural(target.n_blocks, "block")
     print(f"wrote {printable(str(path))} ({printable(target.name)}: {what})")
     return 0
+
+
+register = registration("show", OPTIONS, run)

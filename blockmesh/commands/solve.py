@@ -26,25 +26,25 @@ from typing import Any
 import numpy as np
 
 from blockmesh._system.memory import available_memory, process_rss
-from blockmesh.commands import add_command
+from blockmesh.commands import Option, Options, registration
 from blockmesh.commands.common import (
-    add_domain_arguments,
     check_folders,
     check_level_options,
+    domain_arguments,
     levels_to_add,
     print_json,
     printable,
     resolve_target,
 )
 from blockmesh.commands.options import (
+    JSON_OPTION,
     RenamedOption,
-    add_json_option,
-    add_level_option,
-    add_max_memory_option,
-    add_placement_options,
-    add_plot_option,
+    level_option,
+    max_memory_option,
+    placement_options,
+    plot_option,
 )
-from blockmesh.commands.solve_adaptive import add_adaptive_arguments, check_adaptive, run_adaptive
+from blockmesh.commands.solve_adaptive import ADAPTIVE_OPTIONS, check_adaptive, run_adaptive
 from blockmesh.domain.domain import Domain
 from blockmesh.errors import BlockMeshError, SolverError
 from blockmesh.mesh.mesh import Mesh
@@ -56,7 +56,7 @@ from blockmesh.vem import SOLVERS, STABILIZATIONS, solve_elasticity, solve_poiss
 from blockmesh.vem.fields import scalar_field, split_pair
 from blockmesh.vem.output import SOLUTION_FORMATS, write_solution
 
-__all__ = ["register", "run"]
+__all__ = ["OPTIONS", "register", "run"]
 
 EQUATIONS = ("poisson", "elasticity")
 
@@ -64,35 +64,33 @@ EQUATIONS = ("poisson", "elasticity")
 DEFAULT_LEVEL = 2
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``solve`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "solve", run)
-    add_domain_arguments(parser)
-    add_level_option(
-        parser,
+#: The options of ``blockmesh solve``, in the order of its ``--help``.
+OPTIONS: Options = (
+    *domain_arguments(),
+    level_option(
         f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file is solved on at its own level, refined further by --level if given; with "
         "--adapt the starting level, default 0; with --size, or a domain file with a [size] "
         "table, 0 unless given)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--size",
         "-s",
         metavar="H",
         help="solve on cells of diameter H (a number, or an expression in x and y) instead of "
         "refined blocks; with --level L too, those cells are refined L times (see blockmesh "
         "mesh --help)",
-    )
-    parser.add_argument("--equation", choices=EQUATIONS, default="poisson", help="the problem")
-    parser.add_argument(
+    ),
+    Option("--equation", choices=EQUATIONS, default="poisson", help="the problem"),
+    Option(
         "--source",
         action="append",
         default=[],
         metavar="[REGION=]EXPR",
         help="f(x, y) (poisson, default 0) or the body force 'FX, FY' (elasticity, default 0, 0); "
         "REGION=... for one region (repeatable)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--dirichlet",
         action="append",
         default=[],
@@ -100,16 +98,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="the solution on PATCH (repeatable); elasticity: 'UX, UY', a component may be "
         "'free'. PATCH may be a comma list ('left,right=EXPR') or * ('*=EXPR': every boundary "
         "patch no other --dirichlet or --neumann names)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--neumann",
         action="append",
         default=[],
         metavar="PATCH=EXPR",
         help="outward flux kappa du/dn on PATCH (repeatable); elasticity: the traction 'TX, TY'. "
         "PATCH as for --dirichlet (a comma list, or *)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--exact-solution",
         "--exact",
         dest="exact",
@@ -117,54 +115,49 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action=RenamedOption,
         help="the exact solution ('UX, UY' for elasticity): report the errors against it "
         "(--exact is the earlier spelling)",
-    )
-    for flag, metavar, text in (
-        ("--diffusion", "[REGION=]EXPR", "kappa(x, y) (1)"),
-        ("--reaction", "[REGION=]EXPR", "c(x, y) (0)"),
-        ("--young", "[REGION=]E", "elasticity: E (1)"),
-        ("--poisson-ratio", "[REGION=]NU", "elasticity: nu (0.3)"),
-    ):
-        parser.add_argument(
+    ),
+    *(
+        Option(
             flag,
             action="append",
             default=[],
             metavar=metavar,
             help=f"{text}; REGION=... for one region of a composite domain (repeatable)",
         )
-    parser.add_argument(
-        "--plane", choices=("stress", "strain"), default="stress", help="elasticity: the model"
-    )
-    parser.add_argument(
+        for flag, metavar, text in (
+            ("--diffusion", "[REGION=]EXPR", "kappa(x, y) (1)"),
+            ("--reaction", "[REGION=]EXPR", "c(x, y) (0)"),
+            ("--young", "[REGION=]E", "elasticity: E (1)"),
+            ("--poisson-ratio", "[REGION=]NU", "elasticity: nu (0.3)"),
+        )
+    ),
+    Option("--plane", choices=("stress", "strain"), default="stress", help="elasticity: the model"),
+    Option(
         "--constraint",
         choices=("mean", "rigid"),
         help="pure Neumann problems: zero mean (poisson) or no rigid motion (elasticity)",
-    )
-    add_placement_options(parser, "the mesh")
-    parser.add_argument(
-        "--order", type=int, default=3, metavar="N", help="quadrature order of the loads (3)"
-    )
-    parser.add_argument(
+    ),
+    *placement_options("the mesh"),
+    Option("--order", type=int, default=3, metavar="N", help="quadrature order of the loads (3)"),
+    Option(
         "--stabilization",
         choices=tuple(STABILIZATIONS),
         help="VEM stabilisation (default trace; identity is for poisson only)",
-    )
-    parser.add_argument(
-        "--stabilization-scale", type=float, default=1.0, metavar="A", help="its factor (1)"
-    )
-    parser.add_argument(
+    ),
+    Option("--stabilization-scale", type=float, default=1.0, metavar="A", help="its factor (1)"),
+    Option(
         "--solver",
         choices=SOLVERS,
         default="direct",
         help="linear solver: direct (sparse LU; its memory grows as n log n) or amg (algebraic "
         "multigrid, for large problems; needs pyamg)",
-    )
-    add_max_memory_option(parser, "problems")
-    parser.add_argument(
-        "-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"
-    )
-    add_plot_option(parser, "the solution")
-    add_adaptive_arguments(parser)
-    add_json_option(parser)
+    ),
+    max_memory_option("problems"),
+    Option("-o", "--output", metavar="PATH", help="write the solution (.vtu, or .xdmf with a .h5)"),
+    plot_option("the solution"),
+    ADAPTIVE_OPTIONS,
+    JSON_OPTION,
+)
 
 
 #: One ``--dirichlet`` or ``--neumann`` option: (flag, the option's text, patches, expression);
@@ -459,6 +452,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         _print_report(report, args)
     return 0
+
+
+register = registration("solve", OPTIONS, run)
 
 
 def _print_report(report: dict[str, Any], args: argparse.Namespace) -> None:

@@ -22,8 +22,9 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from blockmesh.commands import Group, Option
 from blockmesh.commands.common import check_folders, print_json, printable
-from blockmesh.commands.options import add_scheme_option
+from blockmesh.commands.options import scheme_option
 from blockmesh.errors import BlockMeshError
 from blockmesh.io import check_options, format_for_path, write
 from blockmesh.mesh.mesh import Mesh
@@ -32,52 +33,49 @@ from blockmesh.vem.adaptive import DEFAULT_MAX_STEPS, AdaptiveStep, solve_adapti
 from blockmesh.vem.fields import split_pair
 from blockmesh.vem.output import write_solution
 
-__all__ = ["add_adaptive_arguments", "check_adaptive", "run_adaptive"]
+__all__ = ["ADAPTIVE_OPTIONS", "check_adaptive", "run_adaptive"]
 
 
-def add_adaptive_arguments(parser: argparse.ArgumentParser) -> None:
-    """The ``--adapt`` options of ``blockmesh solve``."""
-    group = parser.add_argument_group(
-        "adaptive solving",
-        "--adapt: solve, estimate the error of every cell (residual estimator: element "
-        "residual, flux jumps, stabilisation term), mark the cells holding THETA of it "
-        "(Doerfler), split them (their new edge nodes hang on the coarse neighbours), repeat",
-    )
-    group.add_argument("--adapt", action="store_true", help="solve adaptively")
-    group.add_argument(
-        "--tol", type=float, metavar="T", help="stop when the estimator is at most T"
-    )
-    group.add_argument(
+#: The ``--adapt`` options of ``blockmesh solve``, a group of their own in its ``--help``.
+ADAPTIVE_OPTIONS = Group(
+    "adaptive solving",
+    "--adapt: solve, estimate the error of every cell (residual estimator: element "
+    "residual, flux jumps, stabilisation term), mark the cells holding THETA of it "
+    "(Doerfler), split them (their new edge nodes hang on the coarse neighbours), repeat",
+    Option("--adapt", action="store_true", help="solve adaptively"),
+    Option("--tol", type=float, metavar="T", help="stop when the estimator is at most T"),
+    Option(
         "--max-unknowns",
         type=int,
         metavar="N",
         help="stop before the unknowns would exceed N",
-    )
-    group.add_argument(
+    ),
+    Option(
         "--theta",
         type=float,
         default=0.5,
         metavar="THETA",
         help="Doerfler's bulk fraction in (0, 1] (default 0.5)",
-    )
-    add_scheme_option(group, "--scheme")
-    group.add_argument(
+    ),
+    scheme_option("--scheme"),
+    Option(
         "--max-steps",
         type=int,
         default=DEFAULT_MAX_STEPS,
         metavar="K",
         help=f"stop after K solves (default {DEFAULT_MAX_STEPS})",
-    )
-    group.add_argument(
+    ),
+    Option(
         "--mesh-output",
         metavar="PATH",
         help="write the final mesh (any mesh format: .vtu .xdmf .msh .mat .npz, OpenFOAM)",
-    )
-    group.add_argument(
+    ),
+    Option(
         "--convergence",
         metavar="PNG",
         help="draw the estimator and errors against the unknowns (log-log)",
-    )
+    ),
+)
 
 
 def check_adaptive(args: argparse.Namespace) -> None:

@@ -6,14 +6,14 @@ import argparse
 from pathlib import Path
 
 from blockmesh._system.atomic import atomic_file
-from blockmesh.commands import add_command
+from blockmesh.commands import Option, Options, registration
 from blockmesh.commands.common import check_folders, print_json, printable
-from blockmesh.commands.options import add_json_option, add_plot_option
+from blockmesh.commands.options import JSON_OPTION, plot_option
 from blockmesh.quadrature import RULES
 from blockmesh.tables import PENTAGONS, TABLES, PaperTable, compute_table, format_table, write_csv
 from blockmesh.tables.plot import plot_convergence
 
-__all__ = ["register", "run"]
+__all__ = ["OPTIONS", "register", "run"]
 
 
 #: Most numbers a list option may name (a range like 1-1000000000 is refused, not expanded).
@@ -44,41 +44,39 @@ def _int_list(text: str) -> tuple[int, ...]:
     return tuple(values)
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``tables`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "tables", run)
-    parser.add_argument(
+#: The options of ``blockmesh tables``, in the order of its ``--help``.
+OPTIONS: Options = (
+    Option(
         "--table",
         type=_int_list,
         metavar="K",
         default=TABLES,
         help="table number(s): 3, 1,2,7 or 7-11 (default all)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--levels",
         type=_int_list,
         metavar="L",
         default=(1, 2, 3, 4),
         help="refinement levels (columns NPMR = 6^L): 1-4 (default), 2, 1,3",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--orders",
         type=_int_list,
         metavar="N",
         help="orders (rows) instead of the paper's (1-10 for Tables 1-6, 5,10,...,45 for 7-11)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--pentagon",
         choices=("SP", "USP", "both"),
         default="both",
         help="which pentagon (default both)",
-    )
-    parser.add_argument(
-        "--rule", choices=tuple(RULES), default="paper", help="quadrature rule (default paper)"
-    )
-    parser.add_argument("--csv", metavar="FILE", help="write every entry to a CSV file")
-    add_plot_option(parser, "the error against the level, one line per order")
-    add_json_option(parser)
+    ),
+    Option("--rule", choices=tuple(RULES), default="paper", help="quadrature rule (default paper)"),
+    Option("--csv", metavar="FILE", help="write every entry to a CSV file"),
+    plot_option("the error against the level, one line per order"),
+    JSON_OPTION,
+)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -128,6 +126,9 @@ def run(args: argparse.Namespace) -> int:
     for line in written:
         print(line)
     return 0
+
+
+register = registration("tables", OPTIONS, run)
 
 
 def _table_json(result: PaperTable) -> dict[str, object]:

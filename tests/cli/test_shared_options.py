@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from blockmesh.cli import build_parser, main
-from blockmesh.commands import options
+from blockmesh.commands import SUMMARIES, Group, load, options
 
 COMMANDS = Path(options.__file__).parent
 
@@ -37,13 +37,33 @@ def _option(parser: argparse.ArgumentParser, name: str) -> argparse.Action | Non
 
 def test_the_shared_options_are_spelled_only_in_the_options_module() -> None:
     """No command module defines a shared option itself (one definition, one meaning)."""
-    for path in sorted(COMMANDS.glob("*.py")):
+    for path in sorted(COMMANDS.rglob("*.py")):
         if path.name == "options.py":
             continue
         text = path.read_text(encoding="utf-8")
         for name in SHARED:
-            defined = re.search(rf'add_argument\(\s*"{name}"', text)
+            defined = re.search(rf'(add_argument|Option)\(\s*"{name}"', text)
             assert defined is None, f"{path.name} defines {name} itself: use commands/options.py"
+
+
+@pytest.mark.parametrize("name", list(SUMMARIES))
+def test_a_command_parser_has_exactly_its_declared_options(name: str) -> None:
+    """``register`` adds the module's ``OPTIONS`` (groups included), in order, and nothing else."""
+    module = load(name)
+    declared: list[tuple[str | None, tuple[str, ...]]] = []
+    for item in module.OPTIONS:
+        if isinstance(item, Group):
+            declared += [(item.title, option.flags) for option in item.options]
+        else:
+            declared.append((None, item.flags))
+    parser = _subparsers()[name]
+    groups = {id(a): g.title for g in parser._action_groups[2:] for a in g._group_actions}
+    added = [
+        (groups.get(id(a)), tuple(a.option_strings) or (a.dest,))
+        for a in parser._actions
+        if not isinstance(a, argparse._HelpAction)
+    ]
+    assert added == declared
 
 
 def test_a_shared_option_is_the_same_option_on_every_command() -> None:

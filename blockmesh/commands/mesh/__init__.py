@@ -6,7 +6,7 @@ domain that fails is reported and does not stop the others; the exit code is the
 
 The command's modules, one job each:
 
-- :mod:`~blockmesh.commands.mesh.command`: the parser and the run, which sends the arguments on;
+- :mod:`~blockmesh.commands.mesh.command`: the options and the run, which sends the arguments on;
 - :mod:`~blockmesh.commands.mesh.arguments`: the arguments checked and gathered into options;
 - :mod:`~blockmesh.commands.mesh.single`: one domain meshed, measured, drawn and written;
 - :mod:`~blockmesh.commands.mesh.report`: a mesh's report printed;
@@ -17,6 +17,6 @@ The command's modules, one job each:
 from __future__ import annotations
 
 from blockmesh.commands.mesh.arguments import DEFAULT_LEVEL
-from blockmesh.commands.mesh.command import register, run
+from blockmesh.commands.mesh.command import OPTIONS, register, run
 
-__all__ = ["DEFAULT_LEVEL", "register", "run"]
+__all__ = ["DEFAULT_LEVEL", "OPTIONS", "register", "run"]

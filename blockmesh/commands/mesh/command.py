@@ -1,4 +1,4 @@
-"""``blockmesh mesh``: its parser, and the run that sends the arguments on.
+"""``blockmesh mesh``: its options, and the run that sends the arguments on.
 
 One domain goes to :mod:`~blockmesh.commands.mesh.single`, several to
 :mod:`~blockmesh.commands.mesh.batch`, ``--partitions`` to
@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import argparse
 
-from blockmesh.commands import add_command
-from blockmesh.commands._partitions import add_partition_arguments, check_partition_arguments
+from blockmesh.commands import Group, Option, Options, registration
+from blockmesh.commands._partitions import check_partition_arguments, partition_options
 from blockmesh.commands._progress import StageProgress
 from blockmesh.commands.common import (
-    add_domain_arguments,
     check_level_options,
+    domain_arguments,
     inline_polygon,
     load_target,
     parse_patch_options,
@@ -27,29 +27,26 @@ from blockmesh.commands.mesh.partitioned import run_partitioned
 from blockmesh.commands.mesh.report import print_report
 from blockmesh.commands.mesh.single import mesh_one
 from blockmesh.commands.options import (
-    add_json_option,
-    add_level_option,
-    add_max_memory_option,
-    add_placement_options,
-    add_plot_option,
-    add_scheme_option,
+    JSON_OPTION,
+    level_option,
+    max_memory_option,
+    placement_options,
+    plot_option,
+    scheme_option,
 )
 from blockmesh.errors import BlockMeshError
 from blockmesh.io import SPLITS
 from blockmesh.refinement.pipeline import NUMBERINGS
 
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``mesh`` subcommand and its options to ``subparsers``."""
-    parser = add_command(subparsers, "mesh", run)
-    add_domain_arguments(parser, many=True)
-    add_level_option(
-        parser,
+#: The options of ``blockmesh mesh``, in the order of its ``--help``.
+OPTIONS: Options = (
+    *domain_arguments(many=True),
+    level_option(
         f"refinement level: every block becomes 6**L pentagons (default {DEFAULT_LEVEL}; "
         "a mesh file keeps its own level, and L more levels refine it further; with --size, or "
         "a domain file with a [size] table, 0 unless given)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--size",
         "-s",
         metavar="H",
@@ -59,101 +56,98 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "point ('0.02 + 0.1*sqrt(x^2 + y^2)'); a domain file's [size] table gives more (sizes "
         "per region, near patches or points). With --level L too, the size sets the blocks "
         "and the level refines them further (6**L cells each)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--uniform",
         action="store_true",
         help="corner-true: instead of refining the blocks LEVEL times (where the cells at block "
         "corners grow 1.5 times per level relative to the others), cut the domain into cells of "
         "one size, about as many as LEVEL would make",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--gradation",
         type=float,
         metavar="R",
         help="with --size: the largest size ratio between neighbouring cells that the sizes "
         "asked may grow by (default 1.3)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--numbering",
         choices=NUMBERINGS,
         default="nested",
         help="node numbering: the paper's nested one (default) or reverse Cuthill-McKee",
-    )
-    add_placement_options(parser, "the mesh")
-    parser.add_argument(
+    ),
+    *placement_options("the mesh"),
+    Option(
         "-o",
         "--output",
         metavar="PATH",
         help="write the mesh; the format follows the extension (.vtu .vtk .xdmf .msh .mat .npz, "
         "or a directory with --format openfoam); with several domains use {name}, e.g. "
         "'out/{name}.vtu'",
-    )
-    parser.add_argument(
-        "--format", metavar="FORMAT", help="output format, overriding the extension"
-    )
-    parser.add_argument(
+    ),
+    Option("--format", metavar="FORMAT", help="output format, overriding the extension"),
+    Option(
         "--split",
         choices=SPLITS,
         help="how .msh output splits pentagons (gmsh has no pentagons; default tri5)",
-    )
-    parser.add_argument(
+    ),
+    Option(
         "--compression",
         choices=("none", "zlib", "lzma"),
         help="compression of the output, where the format has it (default none: the fastest; "
         "zlib makes a .vtu about 2.5x smaller for about 4x the time)",
-    )
-    local = parser.add_argument_group(
+    ),
+    Group(
         "local refinement",
         "after the uniform LEVEL, split only some cells (their new edge nodes hang on the coarse "
         "neighbours, at most one per side; the mesh then has polygons of 5 to 11 vertices). "
         "Several options mark the union; every round asks them again on the refined mesh.",
-    )
-    local.add_argument(
-        "--refine-where",
-        action="append",
-        default=[],
-        metavar="EXPR",
-        help="split the cells where EXPR(x, y) > 0 at the centre or a vertex, e.g. "
-        "'0.2 - sqrt((x-1)^2 + (y-1)^2)' (repeatable)",
-    )
-    local.add_argument(
-        "--refine-region",
-        action="append",
-        default=[],
-        metavar="NAME",
-        help="split the cells of region NAME (repeatable)",
-    )
-    local.add_argument(
-        "--refine-near",
-        action="append",
-        default=[],
-        metavar="PATCH:DISTANCE",
-        help="split the cells within DISTANCE of boundary patch PATCH (repeatable)",
-    )
-    add_scheme_option(local, "--refine-scheme")
-    local.add_argument(
-        "--refine-rounds",
-        type=int,
-        default=1,
-        metavar="K",
-        help="rounds of local refinement (default 1)",
-    )
-    add_plot_option(parser, "the mesh")
-    parser.add_argument(
-        "--quality-plot", metavar="PNG", help="histograms of angles and aspect ratios"
-    )
-    parser.add_argument(
+        Option(
+            "--refine-where",
+            action="append",
+            default=[],
+            metavar="EXPR",
+            help="split the cells where EXPR(x, y) > 0 at the centre or a vertex, e.g. "
+            "'0.2 - sqrt((x-1)^2 + (y-1)^2)' (repeatable)",
+        ),
+        Option(
+            "--refine-region",
+            action="append",
+            default=[],
+            metavar="NAME",
+            help="split the cells of region NAME (repeatable)",
+        ),
+        Option(
+            "--refine-near",
+            action="append",
+            default=[],
+            metavar="PATCH:DISTANCE",
+            help="split the cells within DISTANCE of boundary patch PATCH (repeatable)",
+        ),
+        scheme_option("--refine-scheme"),
+        Option(
+            "--refine-rounds",
+            type=int,
+            default=1,
+            metavar="K",
+            help="rounds of local refinement (default 1)",
+        ),
+    ),
+    plot_option("the mesh"),
+    Option("--quality-plot", metavar="PNG", help="histograms of angles and aspect ratios"),
+    Option(
         "--size-plot",
         metavar="PNG",
         help="draw the cell sizes: diameters, and diameter over the size asked (or over the "
         "neighbours') with the worst cells outlined",
-    )
-    add_max_memory_option(parser, "meshes")
-    add_partition_arguments(
-        parser, "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
-    )
-    add_json_option(parser)
+    ),
+    max_memory_option("meshes"),
+    *partition_options(
+        "make the mesh, each piece written by its worker (-o OUT.pvtu or OUT.xdmf),"
+    ),
+    JSON_OPTION,
+)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -198,3 +192,6 @@ def run(args: argparse.Namespace) -> int:
     else:
         print_report(report)
     return 0
+
+
+register = registration("mesh", OPTIONS, run)
