@@ -425,9 +425,32 @@ def _plain(value: Any) -> Any:
 _JSON_PRINTED = [0]
 
 
+def _finite(value: Any) -> Any:
+    """``value`` with every non-finite float written as text (JSON has no inf or NaN)."""
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(item) for item in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)
+    return value
+
+
 def print_json(payload: dict[str, Any]) -> None:
-    """Print exactly one JSON object on stdout."""
-    print(json.dumps(payload, indent=2, default=_plain, allow_nan=False))
+    """Print exactly one JSON object on stdout (an infinite or NaN number as "inf" or "nan").
+
+    Examples
+    --------
+    >>> print_json({"l2_relative": float("inf"), "errors": [1.5, float("nan")]})
+    {
+      "l2_relative": "inf",
+      "errors": [
+        1.5,
+        "nan"
+      ]
+    }
+    """
+    print(json.dumps(_finite(payload), indent=2, default=_plain, allow_nan=False))
     _JSON_PRINTED[0] += 1
 
 

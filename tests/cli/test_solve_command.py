@@ -38,6 +38,19 @@ def test_readme_poisson_example_writes_vtu_point_data(capsys, tmp_path):
     assert np.abs(back.point_data["error"]).max() < 2e-3
 
 
+def test_relative_errors_against_a_zero_solution_are_valid_json(capsys):
+    # u = 0 has no norm to divide by: the relative errors are infinite, written "inf" (JSON has
+    # no infinity), and the report is still one valid object (it was an internal error)
+    code, stdout, stderr = run_cli(
+        capsys, "solve", "square", "--level", "1", "--source", "1", "--dirichlet", "*=0",
+        "--exact-solution", "0", "--json",
+    )  # fmt: skip
+    assert code == 0, stderr
+    report = json.loads(stdout)
+    assert report["l2_error"] > 0
+    assert report["l2_relative"] == report["h1_relative"] == "inf"
+
+
 def test_text_report(capsys):
     code, stdout, _ = run_cli(capsys, "solve", "square", "--level", "2", "--source", "1",
                               "--dirichlet", "left=0", "--exact", "x*(2 - x)/2")  # fmt: skip
