@@ -8,7 +8,8 @@ edges (edge keys, neighbours, boundary loops), for cells of any number of corner
 
 from __future__ import annotations
 
-from blockmesh.geometry.polygons import (
+from blockmesh.geometry import polygons
+from blockmesh.geometry.polygons import (  # noqa: F401 (given through polygons.PACKAGE_NAMES)
     COLLINEAR_SIN_TOL,
     LocalFrame,
     corner_sines,
@@ -20,14 +21,4 @@ from blockmesh.geometry.polygons import (
     vertex_mean,
 )
 
-__all__ = [
-    "COLLINEAR_SIN_TOL",
-    "LocalFrame",
-    "corner_sines",
-    "interior_angles",
-    "is_strictly_convex",
-    "local_frame",
-    "polygon_diameter",
-    "signed_area",
-    "vertex_mean",
-]
+__all__ = list(polygons.PACKAGE_NAMES)

@@ -22,20 +22,20 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = [
+#: The names :mod:`blockmesh.geometry` gives from this module (those it has given since 0.1).
+PACKAGE_NAMES = (
     "COLLINEAR_SIN_TOL",
-    "DIRECTIONS",
-    "MAX_COORDINATE",
     "LocalFrame",
     "corner_sines",
-    "edges_facing",
     "interior_angles",
     "is_strictly_convex",
     "local_frame",
     "polygon_diameter",
     "signed_area",
     "vertex_mean",
-]
+)
+
+__all__ = [*PACKAGE_NAMES, "DIRECTIONS", "MAX_COORDINATE", "edges_facing"]
 
 #: A corner whose turn has ``|sin| <= COLLINEAR_SIN_TOL`` counts as straight (180 degrees).
 #: Sines are computed from coordinate differences, which are exact for nearby points wherever

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -74,36 +75,39 @@ _SAFETY = 2.0
 Function = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
-def _prepare(
-    target: object, f: object, order: object, level: object, rule: object, max_points: object
-) -> tuple[Function, Rule, int, MeshPlan, int]:
+@dataclass(frozen=True)
+class _Arguments:
+    """The arguments of :func:`integrate` that its siblings share, as given (checked on use)."""
+
+    target: object
+    f: object
+    order: object
+    level: object
+    rule: object
+    chunk: object
+    max_points: object
+    exact_geometry: object
+
+
+def _prepare(given: _Arguments) -> tuple[Function, Rule, int, MeshPlan, int]:
     """Checked arguments and the work of one pass (refused here when it passes the budget)."""
-    found = get_rule(rule)  # type: ignore[arg-type]
-    n = order_of(found, order)
-    budget = check_max_points(max_points)
-    function = check_integrand(f)
-    plan = plan_mesh(target, level)
+    found = get_rule(given.rule)  # type: ignore[arg-type]
+    n = order_of(found, given.order)
+    budget = check_max_points(given.max_points)
+    function = check_integrand(given.f)
+    plan = plan_mesh(given.target, given.level)
     points = check_work(
         plan, found.info(n).points_per_cell, budget, f"order {n} of the {found.name} rule"
     )
     return function, found, n, plan, points
 
 
-def _cell_integrals(
-    target: object,
-    f: object,
-    order: object,
-    level: object,
-    rule: object,
-    chunk: object,
-    max_points: object,
-    exact_geometry: object,
-) -> CellSums:
+def _cell_integrals(given: _Arguments) -> CellSums:
     """The rule's integral over every cell of a Mesh or Domain target (one pass, no estimate)."""
-    function, found, n, plan, _ = _prepare(target, f, order, level, rule, max_points)
+    function, found, n, plan, _ = _prepare(given)
     mesh = plan.build()
-    sums = cell_sums(mesh, function, found, n, check_chunk(chunk))
-    return exact_sums(sums, mesh, function, found, n, _flag(exact_geometry))
+    sums = cell_sums(mesh, function, found, n, check_chunk(given.chunk))
+    return exact_sums(sums, mesh, function, found, n, _flag(given.exact_geometry))
 
 
 def integrate(
@@ -176,15 +180,12 @@ def integrate(
     >>> round(integrate(usp, "1", order=1), 14)  # the area
     6.0
     """
+    given = _Arguments(target, f, order, level, rule, chunk, max_points, exact_geometry)
     if warn_rtol is not None:
-        return _estimate(
-            target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3
-        ).value
+        return _estimate(given, warn_rtol, 3).value
     if isinstance(target, PolygonMesh):
-        return _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[0].sum()
-    return total_of(
-        _cell_integrals(target, f, order, level, rule, chunk, max_points, exact_geometry)
-    )
+        return _polygon_values(target, given)[0].sum()
+    return total_of(_cell_integrals(given))
 
 
 def integrate_cells(
@@ -210,11 +211,12 @@ def integrate_cells(
     >>> cells.shape, round(float(cells.sum()), 13)
     ((6,), 7.3333333333333)
     """
+    given = _Arguments(target, f, order, level, rule, chunk, max_points, exact_geometry)
     if isinstance(target, PolygonMesh):
-        values = _polygon_values(target, f, order, level, rule, max_points, exact_geometry)[0]
+        values = _polygon_values(target, given)[0]
         values.setflags(write=False)
         return values
-    return _cell_integrals(target, f, order, level, rule, chunk, max_points, exact_geometry).values
+    return _cell_integrals(given).values
 
 
 def integrate_with_estimate(
@@ -259,48 +261,34 @@ def integrate_with_estimate(
     >>> str(caught[0].message).split(":")[0]
     'the integral is not resolved'
     """
-    return _estimate(target, f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry, 3)
+    given = _Arguments(target, f, order, level, rule, chunk, max_points, exact_geometry)
+    return _estimate(given, warn_rtol, 3)
 
 
 def _polygon_values(
-    mesh: PolygonMesh,
-    f: object,
-    order: object,
-    level: object,
-    rule: object,
-    max_points: object,
-    exact_geometry: object,
-    chunk: int = DEFAULT_CHUNK,
+    mesh: PolygonMesh, given: _Arguments, chunk: int = DEFAULT_CHUNK
 ) -> tuple[np.ndarray, Rule, int, int]:
-    """Cell integrals over a polygon mesh, the rule, its order and the points used."""
-    found = get_rule(rule)  # type: ignore[arg-type]
-    n = order_of(found, order)
-    function = check_integrand(f)
-    points = check_polygon_target(
-        mesh, level, _flag(exact_geometry), found, n, check_max_points(max_points)
-    )
+    """Cell integrals over a polygon mesh (the target), the rule, its order and the points used.
+
+    ``given.chunk`` is not read: the polygon quadrature evaluates ``chunk`` points at once.
+    """
+    found = get_rule(given.rule)  # type: ignore[arg-type]
+    n = order_of(found, given.order)
+    function = check_integrand(given.f)
+    exact = _flag(given.exact_geometry)
+    budget = check_max_points(given.max_points)
+    points = check_polygon_target(mesh, given.level, exact, found, n, budget)
     return polygon_cell_integrals(mesh, function, found, n, chunk), found, n, points
 
 
 def _polygon_estimate(
-    mesh: PolygonMesh,
-    f: object,
-    order: object,
-    level: object,
-    rule: object,
-    chunk: object,
-    max_points: object,
-    warn_rtol: object,
-    exact_geometry: object,
-    stacklevel: int,
+    mesh: PolygonMesh, given: _Arguments, warn_rtol: object, stacklevel: int
 ) -> IntegrationResult:
     """:func:`integrate_with_estimate` on a polygon mesh: twice the difference to order n + 1."""
     warn_level = check_nonnegative(warn_rtol, "warn_rtol")
-    values, found, n, points = _polygon_values(
-        mesh, f, order, level, rule, max_points, exact_geometry, check_chunk(chunk)
-    )
+    values, found, n, points = _polygon_values(mesh, given, check_chunk(given.chunk))
     check = _check_order(found, n)
-    other = _polygon_values(mesh, f, check, level, found, max_points, exact_geometry)[0]
+    other = _polygon_values(mesh, replace(given, order=check, rule=found))[0]
     per_cell = _SAFETY * np.abs(values - other)
     return _result(
         mesh,
@@ -317,29 +305,17 @@ def _polygon_estimate(
     )
 
 
-def _estimate(
-    target: object,
-    f: object,
-    order: object,
-    level: object,
-    rule: object,
-    chunk: object,
-    max_points: object,
-    warn_rtol: object,
-    exact_geometry: object,
-    stacklevel: int,
-) -> IntegrationResult:
+def _estimate(given: _Arguments, warn_rtol: object, stacklevel: int) -> IntegrationResult:
     """:func:`integrate_with_estimate` on any target; ``stacklevel`` as seen from here."""
-    if isinstance(target, PolygonMesh):
-        arguments = (f, order, level, rule, chunk, max_points, warn_rtol, exact_geometry)
-        return _polygon_estimate(target, *arguments, stacklevel + 1)
-    function, found, n, plan, points = _prepare(target, f, order, level, rule, max_points)
-    chunk = check_chunk(chunk)
+    if isinstance(given.target, PolygonMesh):
+        return _polygon_estimate(given.target, given, warn_rtol, stacklevel + 1)
+    function, found, n, plan, points = _prepare(given)
+    chunk = check_chunk(given.chunk)
     warn_level = check_nonnegative(warn_rtol, "warn_rtol")
-    budget = check_max_points(max_points)
+    budget = check_max_points(given.max_points)
     mesh = plan.build()
     screen = null_rule(found, n)
-    exact = _flag(exact_geometry)
+    exact = _flag(given.exact_geometry)
     sums = exact_sums(
         cell_sums(mesh, function, found, n, chunk, screen=screen), mesh, function, found, n, exact
     )

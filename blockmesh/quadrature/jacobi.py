@@ -29,13 +29,7 @@ def jacobi_nodes(n: int) -> SectorNodes:
     """``n`` Gauss-Jacobi(0, 1) radial points x ``n`` Gauss-Legendre points along the edge."""
     t, wt = gauss_legendre(n)
     x, wx = gauss_jacobi(n, 0, 1)  # weight (1 + x) = 2r: absorbs the Jacobian factor r
-    return SectorNodes(
-        r=(1 + x) / 2,
-        one_minus_r=(1 - x) / 2,
-        h=t / 2,
-        weights=np.multiply.outer(wx, wt) / 8,
-        degree=2 * n - 1,
-    )
+    return SectorNodes.from_gauss(x, t, np.multiply.outer(wx, wt) / 8, degree=2 * n - 1)
 
 
 RULE = Rule(

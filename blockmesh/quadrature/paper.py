@@ -33,13 +33,8 @@ def _nodes(n: int) -> SectorNodes:
     t, wt = gauss_legendre(n)  # along the edge: the paper's ss, ww
     x, wx = gauss_legendre(n + 1)  # radial: the paper's sss, www
     ps = (1 + x) / 2
-    return SectorNodes(
-        r=ps,
-        one_minus_r=(1 - x) / 2,
-        h=t / 2,
-        weights=ps[:, None] * (np.multiply.outer(wx, wt) / 4),  # ps * wt, wt = ww*www/4
-        degree=2 * n - 1,
-    )
+    weights = ps[:, None] * (np.multiply.outer(wx, wt) / 4)  # ps * wt, wt = ww*www/4
+    return SectorNodes.from_gauss(x, t, weights, degree=2 * n - 1)
 
 
 RULE = Rule(

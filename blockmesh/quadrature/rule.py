@@ -79,6 +79,17 @@ class SectorNodes:
                 f"not {self.weights.shape}"
             )
 
+    @classmethod
+    def from_gauss(
+        cls, x: np.ndarray, t: np.ndarray, weights: np.ndarray, degree: int
+    ) -> SectorNodes:
+        """The nodes of radial points ``x`` and edge points ``t`` of rules on [-1, 1].
+
+        ``r = (1 + x) / 2`` and ``h = t / 2``; ``weights`` are the ``w_jk`` (the factor ``r``
+        and the Jacobians of both maps included).
+        """
+        return cls(r=(1 + x) / 2, one_minus_r=(1 - x) / 2, h=t / 2, weights=weights, degree=degree)
+
     @property
     def points_per_sector(self) -> int:
         """Evaluations of f per sector."""

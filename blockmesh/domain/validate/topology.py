@@ -6,6 +6,8 @@ verdict does not depend on where the domain sits or how thin its blocks are.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import shapely
 
@@ -40,12 +42,42 @@ def check_topology(
     local = frame.to_local(vertices)
     _check_same_direction(blocks, neighbour)
     slot = np.flatnonzero(np.asarray(neighbour).ravel() < 0)
-    start = blocks.ravel()[slot]
-    stop = np.roll(blocks, -1, axis=1).ravel()[slot]
-    _check_contacts(vertices, local, blocks, slot, start, stop, same_point_tol(frame))
-    _check_gaps(vertices, local, slot, start, stop, frame)
+    boundary = _Boundary(
+        slot, blocks.ravel()[slot], np.roll(blocks, -1, axis=1).ravel()[slot], local
+    )
+    _check_contacts(vertices, blocks, boundary, same_point_tol(frame))
+    _check_gaps(vertices, boundary, frame)
     _check_connected(neighbour, blocks, components)
-    _check_full_turns(vertices, local, blocks, start, stop)
+    _check_full_turns(vertices, local, blocks, boundary.start, boundary.stop)
+
+
+class _Boundary(NamedTuple):
+    """The blocks' boundary edges, ``start[k]`` to ``stop[k]`` on block ``slot[k] // 5``.
+
+    ``local`` is every vertex in the domain's local frame.
+    """
+
+    slot: np.ndarray
+    start: np.ndarray
+    stop: np.ndarray
+    local: np.ndarray
+
+    def edge(self, k: int) -> tuple[int, int, int]:
+        """Boundary edge ``k``: its first vertex, its second and its block."""
+        return int(self.start[k]), int(self.stop[k]), int(self.slot[k]) // 5
+
+    def ends_to_edges(
+        self, points: np.ndarray, segments: np.ndarray, i: int, j: int
+    ) -> list[tuple[float, int, int]]:
+        """``(distance, vertex, edge)`` of the ends of edge ``j`` to edge ``i``, then the reverse.
+
+        ``points`` and ``segments`` are the vertices and the boundary edges as shapely geometries.
+        """
+        return [
+            (float(shapely.distance(points[v], segments[edge])), int(v), edge)
+            for edge, other in ((i, j), (j, i))
+            for v in (self.start[other], self.stop[other])
+        ]
 
 
 def _check_same_direction(blocks: np.ndarray, neighbour: np.ndarray) -> None:
@@ -113,16 +145,11 @@ def _contact_pairs(
 
 
 def _check_contacts(
-    vertices: np.ndarray,
-    local: np.ndarray,
-    blocks: np.ndarray,
-    slot: np.ndarray,
-    start: np.ndarray,
-    stop: np.ndarray,
-    tol: float,
+    vertices: np.ndarray, blocks: np.ndarray, boundary: _Boundary, tol: float
 ) -> None:
     """Boundary edges that touch or cross away from shared corners: hanging nodes and overlaps."""
-    first, second, segments = _contact_pairs(local, start, stop, tol)
+    local, slot = boundary.local, boundary.slot
+    first, second, segments = _contact_pairs(local, boundary.start, boundary.stop, tol)
     if first.size == 0:
         return
     points = shapely.points(local)
@@ -130,14 +157,12 @@ def _check_contacts(
     seen: set[tuple[int, int, int]] = set()
     seen_pairs: set[tuple[int, int]] = set()
     for i, j in zip(first.tolist(), second.tolist(), strict=True):
-        hanging = None
-        for edge, other in ((i, j), (j, i)):
-            for v in (start[other], stop[other]):
-                if shapely.distance(points[v], segments[edge]) <= tol:
-                    hanging = (int(v), edge)
-        if hanging is not None:
-            v, edge = hanging
-            a, b, owner = int(start[edge]), int(stop[edge]), int(slot[edge]) // 5
+        touching = [
+            (v, edge) for d, v, edge in boundary.ends_to_edges(points, segments, i, j) if d <= tol
+        ]
+        if touching:
+            v, edge = touching[-1]
+            a, b, owner = boundary.edge(edge)
             key = (v, min(a, b), max(a, b))
             if key in seen:
                 continue
@@ -173,15 +198,9 @@ def _overlap_message(
     )
 
 
-def _check_gaps(
-    vertices: np.ndarray,
-    local: np.ndarray,
-    slot: np.ndarray,
-    start: np.ndarray,
-    stop: np.ndarray,
-    frame: LocalFrame,
-) -> None:
+def _check_gaps(vertices: np.ndarray, boundary: _Boundary, frame: LocalFrame) -> None:
     """Separate boundary loops that come closer than NEAR_TOL: blocks that should share vertices."""
+    local, start, stop = boundary.local, boundary.start, boundary.stop
     first, second, segments = _contact_pairs(local, start, stop, NEAR_TOL)
     if first.size == 0:
         return
@@ -191,15 +210,8 @@ def _check_gaps(
     seen = set()
     points = shapely.points(local)
     for i, j in zip(first[apart].tolist(), second[apart].tolist(), strict=True):
-        best = None
-        for edge, other in ((i, j), (j, i)):
-            for v in (start[other], stop[other]):
-                d = float(shapely.distance(points[v], segments[edge]))
-                if best is None or d < best[0]:
-                    best = (d, int(v), edge)
-        assert best is not None
-        d, v, edge = best
-        a, b, owner = int(start[edge]), int(stop[edge]), int(slot[edge]) // 5
+        d, v, edge = min(boundary.ends_to_edges(points, segments, i, j), key=lambda end: end[0])
+        a, b, owner = boundary.edge(edge)
         key = (v, min(a, b), max(a, b))
         if d > NEAR_TOL or key in seen:
             continue
