@@ -135,3 +135,23 @@ def test_a_corner_poking_out_of_a_later_disc_is_measured_against_the_true_circle
     shapes = {name: shape for name, (_, shape) in given.items()}
     for level in (0, 1):
         assert_composite(domain.mesh(level), shapes)
+
+
+def test_cells_at_an_arc_crossing_an_edge_are_placed_by_the_true_circle():
+    # Found by test_random_composites: the star's edge crosses the disc's circle at about 18
+    # degrees, and the blocks there shrink to 1e-9 (14,298 blocks at level 0). Their regions
+    # are right by the true circle; the check's polygonal disc, 5e-8 off it, must not judge them.
+    square = shapely.box(0, 0, 1.5, 1.5)
+    triangle = regular((0.25, 0.0), 0.4, 3, 0.0)
+    star = regular((2.25, 2.75), 0.4, 6, 0.1, star=True)
+    given = {
+        "base": (square, square),
+        "p0": (triangle, triangle),
+        "p1": ({"circles": [{"center": [1.75, 3.25], "radius": 0.7}]}, disc((1.75, 3.25), 0.7)),
+        "p2": (star, star),
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        domain = Domain.compose({name: value for name, (value, _) in given.items()})
+    shapes = {name: shape for name, (_, shape) in given.items()}
+    assert_composite(domain.mesh(0), shapes)
