@@ -8,8 +8,10 @@ boundary) unless it falls outside the domain or inside the diametral circle of a
 in which case that segment is split instead (at its midpoint, or at a power-of-two distance from
 an input corner, so that segments meeting at a sharp corner do not split each other forever).
 Triangles that cannot be repaired within the point budget (slivers of aspect ratio beyond it,
-corners of the domain sharper than the target) are left as they are: the triangulation is always
-valid, its quality is the best the budget allows.
+corners of the domain sharper than the target, and triangles across a corner sharper than 60
+degrees whose shortest edge joins two points one shell from it, as Shewchuk's Triangle leaves them)
+are left as they are: the triangulation is always valid, its quality is the best the budget
+allows.
 
 Everything here works in the caller's coordinates, which should be local ones (origin inside the
 domain, size about 1, as :func:`blockmesh.geometry.local_frame` gives): the predicates are plain
@@ -44,6 +46,9 @@ __all__ = ["Triangulation", "triangulate"]
 #: at interior triangle vertices are free to even out), while a 30-degree target costs about a
 #: third more triangles, hence blocks.
 DEFAULT_MIN_ANGLE = 22.0
+#: Relative difference under which two points are at one distance from a corner (on one of the
+#: concentric shells the segment splits put around it).
+_SAME_SHELL = 1e-3
 
 
 @dataclass(frozen=True)
@@ -213,6 +218,9 @@ class _Refiner:
                 else:
                     self.nbr[t][i] = other[0]
                     self.nbr[other[0]][other[1]] = t
+        # The ring edge each point added on a segment lies on (-1: an input point).
+        self.ends = list(zip(edge_a.tolist(), edge_b.tolist(), strict=True))
+        self.on_edge = [-1] * len(self.x)
         self.seg: dict[tuple[int, int], int] = {}
         for (p, q), _ in owner.items():
             if (p, q) not in ring_edge:
@@ -387,6 +395,7 @@ class _Refiner:
         self.y.append(py)
         self.tri_of.append(-1)
         self.sharp.append(False)
+        self.on_edge.append(-1)
         return len(self.x) - 1
 
     # ---------------------------------------------------------------- operations
@@ -438,6 +447,7 @@ class _Refiner:
             if not self._star_shaped(twin_edges, mx, my):
                 return None
         m = self._add_point(mx, my)
+        self.on_edge[m] = ring_edge
         new = self._fill(cavity, edges, m)
         del self.seg[(p, q)]
         self.seg[(p, m)] = ring_edge
@@ -552,7 +562,32 @@ class _Refiner:
             return True
         _, where = self._angles(t)
         corner = self.tri[t][where]
-        return self.sharp[corner]
+        return self.sharp[corner] or self._across_sharp_corner(
+            self.tri[t][(where + 1) % 3], self.tri[t][(where + 2) % 3]
+        )
+
+    def _across_sharp_corner(self, u: int, v: int) -> bool:
+        """Whether ``u``-``v`` joins two segments at one distance from the sharp corner they share.
+
+        Such an edge (points the concentric shells put on both sides of a corner sharper than 60
+        degrees) is as short as the corner is sharp: a triangle with it as its shortest edge
+        cannot be repaired, as a point inside it would split both segments again, closer to the
+        corner, without end.
+        """
+        ku, kv = self.on_edge[u], self.on_edge[v]
+        if ku < 0 or kv < 0:
+            return False
+        common = set(self.ends[ku]) & set(self.ends[kv])
+        if len(common) != 1:
+            return False  # one segment (or its twin), or segments that do not meet
+        apex = common.pop()
+        x, y = self.x, self.y
+        ux, uy = x[u] - x[apex], y[u] - y[apex]
+        vx, vy = x[v] - x[apex], y[v] - y[apex]
+        du, dv = math.hypot(ux, uy), math.hypot(vx, vy)
+        if abs(du - dv) > _SAME_SHELL * max(du, dv):
+            return False
+        return math.degrees(math.atan2(abs(ux * vy - uy * vx), ux * vx + uy * vy)) < 60.0
 
     def result(self) -> Triangulation:
         keep = [t for t in range(len(self.tri)) if self.alive[t]]
