@@ -13,7 +13,8 @@ The steps (``docs/composite.md``):
    every part on it, with the points where other parts cross it computed exactly, and more
    finely where two outlines would otherwise follow one chord along different curves (a thin
    lens between two circles, a circle's cap cut by a straight edge), so that no face between
-   them is lost however thin;
+   them is lost however thin; the points where straight edges cross, and corners lying on
+   another part's edge, are fixed on the edges too (:mod:`~blockmesh.domain.compose.edges`);
 2. the parts are fragmented (shapely: region ``i`` is part ``i`` minus the later parts), their
    boundaries noded, and the faces of the arrangement found (:func:`shapely.polygonize`); each
    face is a connected piece of one region, its rings point ids of the arrangement;
@@ -67,6 +68,7 @@ from blockmesh.domain.compose.circles import (
     follow,
     split_shared_chords,
 )
+from blockmesh.domain.compose.edges import edge_crossings, merge_splits, on_edge_tol
 from blockmesh.domain.compose.fragments import (
     SourcePieces,
     fragments,
@@ -163,6 +165,7 @@ def arrange(
     tol = NEAR_TOL * size
     circles = circles_of(parts, size)
     splits = crossings(parts, circles, tol)
+    merge_splits(splits, edge_crossings(parts, tol, on_edge_tol(parts, size)))
     while True:
         for circle in circles.items:
             circle.sample(finer)

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from blockmesh.domain.compose.edges import straight_edges
 from blockmesh.domain.parts import Outline, Part
 
 __all__ = [
@@ -194,25 +195,6 @@ def circles_of(parts: list[Part], size: float) -> Circles:
     return circles
 
 
-def _straight_edges(
-    parts: list[Part],
-) -> tuple[np.ndarray, np.ndarray, list[tuple[int, int, int, int]]]:
-    """Every straight edge of every outline: starts, ends, and (part, polygon, ring, edge)."""
-    starts, ends, keys = [], [], []
-    for i, part in enumerate(parts):
-        for j, polygon in enumerate(part.polygons):
-            for r, outline in enumerate(polygon):
-                n = len(outline.corners)
-                for e in range(n):
-                    if outline.arcs[e] is None:
-                        starts.append(outline.corners[e])
-                        ends.append(outline.corners[(e + 1) % n])
-                        keys.append((i, j, r, e))
-    if not keys:
-        return np.zeros((0, 2)), np.zeros((0, 2)), keys
-    return np.array(starts), np.array(ends), keys
-
-
 def crossings(
     parts: list[Part], circles: Circles, tol: float
 ) -> dict[tuple[int, int, int, int], list[tuple[float, np.ndarray]]]:
@@ -222,7 +204,7 @@ def crossings(
     crosses or touches it, with their fraction along the edge; the same points are fixed on the
     circles (so the two share them bit for bit). Corners lying on a circle are fixed on it.
     """
-    starts, ends, keys = _straight_edges(parts)
+    starts, ends, keys = straight_edges(parts)
     splits: dict[tuple[int, int, int, int], list[tuple[float, np.ndarray]]] = {}
     corners = [
         outline.corners
