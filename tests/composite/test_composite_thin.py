@@ -139,8 +139,8 @@ def test_a_crescent_too_thin_for_convex_blocks_is_refused_where_it_is():
     # Its curved sides move its blocks' nodes by more than it is wide: a located refusal.
     with pytest.raises(
         DomainError,
-        match=r"part 0 \('p'\) is too thin near \(1\.9\d+, 1\.\d+\) \(a sliver about 0\.002\d* "
-        r"wide at most, between the outlines of part 0 \('p'\) and part 1 \('q'\)\).*"
+        match=r"part 0 \('p'\) is too thin near \(1\.9\d+, 1\.\d+\) \(a sliver about 0\.00\d* "
+        r"wide there, between the outlines of part 0 \('p'\) and part 1 \('q'\)\).*"
         r"overlap the parts by more",
     ):
         Domain.compose(crescent(1.0, 0.4, 2.5e-3))

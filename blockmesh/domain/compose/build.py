@@ -31,6 +31,9 @@ if TYPE_CHECKING:
 
 __all__ = ["BlocksFailError", "build_domain", "interface_renames"]
 
+#: How far around a folded block (in its diameters) the width of its sliver is measured.
+_WIDTH_WINDOW = 3.0
+
 
 class BlocksFailError(Exception):
     """The blocks made for the faces fail the Domain's checks (``error`` says how).
@@ -75,16 +78,25 @@ class BlocksFailError(Exception):
             arrangement.points[arrangement.faces[face][0]],
             [arrangement.points[ring] for ring in arrangement.faces[face][1:]],
         )
-        wide = 2 * float(shapely.length(shapely.maximum_inscribed_circle(outline)))
-        near = pieces.near(where, wide + float(np.ptp(corners[b], axis=0).max()))
+        diameter = float(np.ptp(corners[b], axis=0).max())
+        wide = _width_near(outline, where, _WIDTH_WINDOW * diameter)
+        near = pieces.near(where, wide + diameter)
         return DomainError(
             f"{parts[int(arrangement.face_region[face])].label} is too thin near "
-            f"{fmt_point(where)} (a sliver about {wide:.3g} wide at most, between the outlines of "
+            f"{fmt_point(where)} (a sliver about {wide:.3g} wide there, between the outlines of "
             f"{_listed(near)}) for blocks that stay convex along its curved sides: "
             "there a later part's circle cuts it at a sharp angle or nearly touches its outline; "
             "let the later part cover the sliver (overlap the parts by more there) or keep the "
             "parts clearly apart"
         )
+
+
+def _width_near(face: Any, where: np.ndarray, reach: float) -> float:
+    """The width of ``face`` near ``where``: its widest disc within ``reach`` of the point."""
+    window = shapely.intersection(face, shapely.Point(*where).buffer(reach))
+    pieces = list(shapely.get_parts(window)) or [face]
+    piece = min(pieces, key=lambda g: shapely.distance(g, shapely.Point(*where)))
+    return 2 * float(shapely.length(shapely.maximum_inscribed_circle(piece)))
 
 
 def interface_renames(
