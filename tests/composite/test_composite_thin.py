@@ -14,6 +14,8 @@ import math
 import numpy as np
 import pytest
 import shapely
+from composite_checks import assert_composite
+from composite_checks import disc as disc_shape
 from helpers import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -127,9 +129,10 @@ def crescent(big: float, small: float, width: float) -> dict:
     return {"p": disc(c + (big - small + width) * u, small), "q": disc(c, big)}
 
 
-@pytest.mark.parametrize("width", [1e-2, 2.5e-3])
-def test_a_crescent_left_of_an_earlier_disc_is_kept(width):
-    big, small = 1.0, 0.1
+@pytest.mark.parametrize(("small", "width"), [(0.1, 1e-2), (0.1, 2.5e-3), (0.4, 2.5e-3)])
+def test_a_crescent_left_of_an_earlier_disc_is_kept(small, width):
+    # (0.4, 2.5e-3) was refused as too thin before the chords were graded towards the crossings.
+    big = 1.0
     domain = Domain.compose(crescent(big, small, width))
     lens = lens_area(big, small, big - small + width)
     assert_areas(domain, [math.pi * small * small - lens, math.pi * big * big])
@@ -143,7 +146,7 @@ def test_a_crescent_too_thin_for_convex_blocks_is_refused_where_it_is():
         r"wide there, between the outlines of part 0 \('p'\) and part 1 \('q'\)\).*"
         r"overlap the parts by more",
     ):
-        Domain.compose(crescent(1.0, 0.4, 2.5e-3))
+        Domain.compose(crescent(1.0, 0.4, 3e-4))
 
 
 def test_a_crescent_thinner_than_the_tolerance_is_refused():
@@ -170,3 +173,29 @@ def test_thin_lenses_go_to_the_later_disc(r0, r1, exponent, turn):
     assert_areas(domain, [math.pi * r0 * r0 - lens, math.pi * r1 * r1], levels=(0,))
     on = np.hypot(*(interface_points(domain) - c1).T)
     assert np.abs(on - r1).max() <= 1e-12 * max(1.0, float(np.abs(c1).max()))
+
+
+@pytest.mark.parametrize("poke", [0.0013, 0.005])
+def test_a_disc_poking_through_an_edge_at_a_sharp_angle_leaves_cusps_that_are_meshed(poke):
+    # The circle crosses the square's edge at 4.1 degrees (poke 0.0013): the square keeps two
+    # cusps that sharp beside the disc. Refused as too thin before the circle's chords were
+    # graded towards sharp crossings; poke 0.005 made 9,756 blocks, now about 4,200.
+    square = shapely.box(0, 0, 2, 1.5)
+    centre, radius = (0.9, 0.5 - poke), 0.5
+    shapes = {"base": square, "disc": disc_shape(centre, radius)}
+    domain = Domain.compose({"base": square, "disc": disc(centre, radius)})
+    assert_composite(domain.mesh(0), shapes)
+
+
+def test_a_corner_between_a_chord_and_the_circle_lies_in_the_disc():
+    # The triangle's tip is 0.003 inside the circle, but outside the chord the circle is
+    # followed with there: its edges crossed the chord where they do not cross the circle, and
+    # the crossings computed twice, 2e-17 apart, were refused as a gap.
+    square = shapely.box(0, 0, 2, 1.5)
+    centre, radius = np.array([0.7, 0.7]), 0.5
+    tip = centre + (radius - 3e-3) * np.array([math.cos(0.2), math.sin(0.2)])
+    inner = centre + np.array([[0.25, -0.075], [0.2, 0.15]])
+    triangle = shapely.Polygon([tip, *inner])
+    shapes = {"base": square, "disc": disc_shape(centre, radius), "tri": triangle}
+    domain = Domain.compose({"base": square, "disc": disc(centre, radius), "tri": triangle})
+    assert_composite(domain.mesh(0), shapes)

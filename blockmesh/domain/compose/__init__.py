@@ -66,6 +66,7 @@ from blockmesh.domain.compose.circles import (
     circles_of,
     crossings,
     follow,
+    split_crossed_chords,
     split_shared_chords,
 )
 from blockmesh.domain.compose.edges import edge_crossings, merge_splits, on_edge_tol
@@ -91,6 +92,9 @@ FINER = (1, 2, 4, 8)
 #: default, as the faces' chords of circles make corners where many triangles would meet
 #: (measured on a disc in a square: 22 degrees gives blocks of 22.5, 30 gives 43.7, 18 % more).
 MIN_ANGLE = 30.0
+#: Most rounds of following the outlines and splitting chords (two or three are the rule: a
+#: corner between a chord and its circle takes one more round per halving of the chords near it).
+_FOLLOW_ROUNDS = 24
 
 
 def compose_parts(
@@ -166,7 +170,7 @@ def arrange(
     circles = circles_of(parts, size)
     splits = crossings(parts, circles, tol)
     merge_splits(splits, edge_crossings(parts, tol, on_edge_tol(parts, size)))
-    while True:
+    for _ in range(_FOLLOW_ROUNDS):
         for circle in circles.items:
             circle.sample(finer)
         rings = [
@@ -175,10 +179,12 @@ def arrange(
             for i, part in enumerate(parts)
         ]  # fmt: skip
         # Chords two outlines share along different curves get their arcs' middles fixed, and
-        # the outlines are followed again; the new points lie on one circle each, so a second
-        # round finds nothing more to split.
+        # chords that straight edges cross get the circle graded around the corner beyond them;
+        # the outlines are followed again until nothing more is split (a few rounds; what is
+        # left after the last, the arrangement's checks judge).
         followed = [ring for part in rings for polygon in part for ring in polygon]
-        if not split_shared_chords(followed, circles, SHARED_CHORD_PIECES * finer):
+        shared = split_shared_chords(followed, circles, SHARED_CHORD_PIECES * finer)
+        if not shared and not split_crossed_chords(followed, circles):
             break
     shapes = [part_shape(part, ring) for part, ring in zip(parts, rings, strict=True)]
     regions = fragments(parts, shapes)

@@ -20,19 +20,23 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import shapely
 
 from blockmesh.domain.compose.edges import straight_edges
 from blockmesh.domain.parts import Outline, Part
 
 __all__ = [
     "CIRCLE_PIECES",
+    "GRADED_WIDTH",
     "SHARED_CHORD_PIECES",
+    "SHARP_CROSSING",
     "Circle",
     "Circles",
     "FollowedRing",
     "circles_of",
     "crossings",
     "follow",
+    "split_crossed_chords",
     "split_shared_chords",
 ]
 
@@ -44,6 +48,18 @@ CIRCLE_PIECES = 16
 SHARED_CHORD_PIECES = 2
 #: Relative distance under which two circles are the same circle (centres and radii).
 _SAME_CIRCLE = 1e-9
+#: Crossings of a circle sharper than this (radians) get its chords graded towards them. Measured
+#: on random composites of a box, polygons, stars, holed polygons and discs: at 15 degrees the
+#: blocks along blunter crossings stay convex without it (1 of 300 composites changes, +0.05 %
+#: blocks), and every cusp refused before in 150 draws is meshed; at 40 degrees 16 of 300 change
+#: (+9 % blocks) for nothing more.
+SHARP_CROSSING = math.radians(15.0)
+#: Narrowest wedge (times the arrangement's tolerance) where :meth:`Circle.grade_towards` puts a
+#: point: nearer the crossing, the points on the two curves would come within a few tolerances.
+GRADED_WIDTH = 30.0
+#: Smallest angle (radians) between fixed points :meth:`Circle.grade_towards` puts beside a
+#: crossing: a curve touching the circle (an angle of 0) gets none (the thin checks judge it).
+_MIN_GRADED_STEP = 1e-6
 
 
 @dataclass
@@ -56,6 +72,8 @@ class Circle:
     pieces: int = 0  # chords for a whole circle with no fixed points (0: no whole circle)
     spans: list[tuple[tuple[float, float], float]] = field(default_factory=list)  # (start, sweep)
     anchors: set[tuple[float, float]] = field(default_factory=set)  # points fixed on it
+    # Points wanted on it to grade the chords, each with the angle it wants kept free around it.
+    graded: dict[tuple[float, float], float] = field(default_factory=dict)
     xy: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     angle: np.ndarray = field(default_factory=lambda: np.zeros(0))
     index: dict[tuple[float, float], int] = field(default_factory=dict)
@@ -78,6 +96,57 @@ class Circle:
                 return True
         return False
 
+    def grade(self, angle: float, clearance: float) -> None:
+        """Want the circle followed at ``angle`` too, unless a point within ``clearance / 2`` is.
+
+        Unlike a fixed point (:meth:`anchor`), a graded point only shapes the chords: it is left
+        out where a fixed point or a finer graded point lies nearer (:meth:`followed_points`).
+        """
+        if self.covers(angle):
+            point = self.centre + self.radius * np.array([math.cos(angle), math.sin(angle)])
+            key = (float(point[0]), float(point[1]))
+            self.graded[key] = min(clearance, self.graded.get(key, clearance))
+
+    def grade_towards(self, point: np.ndarray, crossing: float, tol: float) -> None:
+        """Grade the chords either side of ``point``, where a curve crosses the circle sharply.
+
+        ``crossing`` is the angle (radians) between the circle and the curve crossing it there.
+        The nearest points are an eighth of that angle away (seen from the centre), so the chord
+        to them leaves the circle at a sixteenth of the crossing angle; the next ones 3, 7, 15,
+        ... times as far, up to one chord of the circle's followed outline
+        (:data:`CIRCLE_PIECES`). The thin wedge between the curve and the circle then has chords
+        that bulge by at most a sixteenth of its width along them, and the blocks in it stay
+        convex on their arcs. No point goes where the wedge is narrower than :data:`GRADED_WIDTH`
+        times ``tol`` (the arrangement's tolerance): the thin checks judge what is thinner. Nothing
+        is added for a crossing of :data:`SHARP_CROSSING` or more.
+        """
+        step = crossing / 8.0
+        span = 2 * math.pi / max(self.pieces, CIRCLE_PIECES)
+        if crossing >= SHARP_CROSSING or not _MIN_GRADED_STEP < step < span:
+            return
+        middle = self.angle_of(point)
+        offset = step
+        while offset < span:
+            if self.radius * offset * math.sin(crossing) >= GRADED_WIDTH * tol:
+                self.grade(middle - offset, offset)
+                self.grade(middle + offset, offset)
+            offset = 2.0 * offset + step
+
+    def followed_points(self) -> list[tuple[float, float]]:
+        """The fixed points, and the graded points that keep their clearance.
+
+        Graded points are taken finest first, each only when half its clearance (an angle) is
+        free of every point taken before it.
+        """
+        kept = sorted(self.anchors)
+        taken = [self.angle_of(k) for k in kept]
+        for key, clearance in sorted(self.graded.items(), key=lambda item: (item[1], item[0])):
+            angle = self.angle_of(key)
+            if all(abs(math.remainder(angle - a, 2 * math.pi)) >= 0.5 * clearance for a in taken):
+                kept.append(key)
+                taken.append(angle)
+        return kept
+
     def sample(self, finer: int = 1) -> None:
         """The points the circle is followed at: its fixed points, and more between them.
 
@@ -85,12 +154,12 @@ class Circle:
         """
         wanted = max(self.pieces, CIRCLE_PIECES) * finer
         limit = 2 * math.pi / wanted
-        if not self.anchors:
+        keys = sorted(self.followed_points(), key=self.angle_of)
+        if not keys:
             even = 2 * math.pi * np.arange(wanted) / wanted
             self.angle = even
             self.xy = self.centre + self.radius * np.c_[np.cos(even), np.sin(even)]
         else:
-            keys = sorted(self.anchors, key=self.angle_of)
             first = [self.angle_of(k) for k in keys]
             angles: list[float] = []
             points: list[np.ndarray] = []
@@ -240,12 +309,20 @@ def crossings(
                     continue
                 circle.anchor(point)
                 splits.setdefault(keys[k], []).append((t, point))
+                radial = (point - c) / radius
+                along = math.fabs(float(d[k] @ radial)) / length
+                circle.grade_towards(point, math.asin(min(along, 1.0)), tol)
     for m, one in enumerate(circles.items):
         for two in circles.items[m + 1 :]:
             for point in _circle_crossings(one, two):
                 if one.covers(one.angle_of(point)) and two.covers(two.angle_of(point)):
                     one.anchor(point)
                     two.anchor(point)
+                    cosine = float((point - one.centre) @ (point - two.centre))
+                    between = math.acos(max(-1.0, min(1.0, cosine / (one.radius * two.radius))))
+                    crossing = min(between, math.pi - between)
+                    one.grade_towards(point, crossing, tol)
+                    two.grade_towards(point, crossing, tol)
     return splits
 
 
@@ -352,3 +429,86 @@ def split_shared_chords(
             circle.anchor(point)
         added += len(circle.anchors) - before
     return added
+
+
+def split_crossed_chords(rings: Sequence[FollowedRing], circles: Circles) -> int:
+    """Fix points on a circle around a corner that lies between one of its chords and its arc.
+
+    A corner of one part may lie inside a circle but outside the outline that follows it, between
+    a chord and the arc. Its straight edges then cross the chord where they do not cross the
+    circle, and the fragmenting would compute each such crossing again, with its own rounding, in
+    every shapely operation (and put the corner on the wrong side of the circle). Such a corner,
+    ``d`` inside the circle, gets two points fixed on the circle either side of it, so close that
+    their chord passes ``d / 2`` inside the arc: followed again, the corner lies inside. A crossing
+    whose straight piece has no end inside the circle gets the circle's point at its angle fixed.
+
+    Returns the number of points newly fixed (0: no straight piece crosses a chord).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> circles = Circles(1.0)
+    >>> circle = circles.items[circles.find((0.0, 0.0), 1.0)]
+    >>> circle.pieces = 16  # a whole circle
+    >>> for point in ([1.0, 0.0], [0.0, 1.0]):
+    ...     circle.anchor(np.array(point))
+    >>> circle.sample()
+    >>> arc = FollowedRing(circle.xy, [None] * len(circle.xy), [0] * len(circle.xy))
+    >>> tip = np.array([0.995, 0.07])  # inside the circle, outside its chord there
+    >>> wedge = FollowedRing(np.array([tip, [0.5, 0.0], [0.5, 0.2]]), [None] * 3, [-1] * 3)
+    >>> split_crossed_chords([arc, wedge], circles)  # either side of the tip: 1, 3 steps out
+    4
+    >>> circle.sample()
+    >>> split_crossed_chords([FollowedRing(circle.xy, arc.patch, arc.curve), wedge], circles)
+    0
+    """
+    if not rings:
+        return 0
+    start = np.vstack([ring.xy for ring in rings])
+    stop = np.vstack([np.roll(ring.xy, -1, axis=0) for ring in rings])
+    curve = np.concatenate([np.asarray(ring.curve, dtype=np.int64) for ring in rings])
+    chord = np.flatnonzero(curve >= 0)
+    straight = np.flatnonzero(curve < 0)
+    if not chord.size or not straight.size:
+        return 0
+    lines = shapely.linestrings(np.stack([start, stop], axis=1))
+    at, hit = shapely.STRtree(lines[chord]).query(lines[straight], predicate="crosses")
+    added = 0
+    for s, c in zip(straight[at].tolist(), chord[hit].tolist(), strict=True):
+        circle = circles.items[int(curve[c])]
+        before = len(circle.anchors) + len(circle.graded)
+        _grade_around_corner(circle, start[s], stop[s], start[c], stop[c])
+        added += len(circle.anchors) + len(circle.graded) - before
+    return added
+
+
+def _grade_around_corner(
+    circle: Circle, p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray
+) -> None:
+    """Grade ``circle`` where a straight piece ``p``-``q`` crosses its chord ``a``-``b``.
+
+    Around the piece's end beyond the chord, ``d`` inside the circle: the nearest two points so
+    close that their chord passes within ``d / 8`` of the arc, the next ones 3, 7, 15, ... times
+    as far out up to the chord's ends, so that the chords (and the blocks along them) grow away
+    from the corner gradually. The circle's point at the crossing is fixed when that end is not
+    inside the circle.
+    """
+    normal = np.array([a[1] - b[1], b[0] - a[0]])  # the chord turned a quarter
+    corner = p if float((p - a) @ normal) * float((circle.centre - a) @ normal) < 0 else q
+    depth = circle.radius - float(np.hypot(*(corner - circle.centre)))
+    if depth <= 0.0:
+        point = shapely.get_coordinates(
+            shapely.intersection(shapely.linestrings([p, q]), shapely.linestrings([a, b]))
+        )[0]
+        angle = circle.angle_of(point)
+        circle.anchor(circle.centre + circle.radius * np.array([math.cos(angle), math.sin(angle)]))
+        return
+    middle = circle.angle_of(corner)
+    step = math.acos(1.0 - depth / (8.0 * circle.radius))
+    ends = [math.remainder(circle.angle_of(end) - middle, 2 * math.pi) for end in (a, b)]
+    for sign in (-1.0, 1.0):
+        limit = max(sign * end for end in ends)  # the chord's end on this side of the corner
+        offset = step
+        while offset < limit:
+            circle.grade(middle + sign * offset, offset)
+            offset = 2.0 * offset + step
