@@ -199,3 +199,21 @@ def test_a_corner_between_a_chord_and_the_circle_lies_in_the_disc():
     shapes = {"base": square, "disc": disc_shape(centre, radius), "tri": triangle}
     domain = Domain.compose({"base": square, "disc": disc(centre, radius), "tri": triangle})
     assert_composite(domain.mesh(0), shapes)
+
+
+@pytest.mark.parametrize("gap", [3e-4, pytest.param(1e-4, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("layout", ["beside an edge", "side by side", "one inside the other"])
+def test_a_circle_nearly_touching_another_outline_is_meshed(layout, gap):
+    # A gap this thin beside a circle was refused as too thin (from 3e-4 beside an edge or inside
+    # a disc, 1e-4 between two discs): the circle is now followed at points graded towards the
+    # gap's narrowest place, so the chords bulge by a small part of the gap beside them.
+    square = shapely.box(0, 0, 2, 1.5)
+    circles = {
+        "beside an edge": [((1.5 - gap, 0.7), 0.5)],
+        "side by side": [((0.6, 0.7), 0.4), ((1.4 + gap, 0.7), 0.4)],
+        "one inside the other": [((1.0, 0.75), 0.7), ((1.4 - gap, 0.75), 0.3)],
+    }[layout]
+    given = {f"c{k}": disc(centre, radius) for k, (centre, radius) in enumerate(circles)}
+    shapes = {f"c{k}": disc_shape(centre, radius) for k, (centre, radius) in enumerate(circles)}
+    domain = Domain.compose({"base": square, **given})
+    assert_composite(domain.mesh(0), {"base": square, **shapes})

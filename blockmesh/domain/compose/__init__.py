@@ -66,6 +66,7 @@ from blockmesh.domain.compose.circles import (
     circles_of,
     crossings,
     follow,
+    grade_near_misses,
     split_crossed_chords,
     split_shared_chords,
 )
@@ -170,6 +171,7 @@ def arrange(
     circles = circles_of(parts, size)
     splits = crossings(parts, circles, tol)
     merge_splits(splits, edge_crossings(parts, tol, on_edge_tol(parts, size)))
+    grade_near_misses(parts, circles, tol)
     for _ in range(_FOLLOW_ROUNDS):
         for circle in circles.items:
             circle.sample(finer)
