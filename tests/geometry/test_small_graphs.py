@@ -62,3 +62,13 @@ def test_close_pairs_crowded_in_x_falls_back_to_the_tree():
     points = np.column_stack([np.zeros(n), np.arange(n, dtype=float)])
     assert validate_points._swept_pairs(points, 0.5) is None
     assert validate_points.close_pairs(points, 1.0).shape == (n - 1, 2)
+
+
+def test_close_pairs_crowded_in_x_below_the_tree_size_compare_all_pairs():
+    # A few hundred points within r of one another in x: the sweep gives up, and all pairs are
+    # compared (no k-d tree, so scipy.spatial stays unimported for ordinary domains).
+    n = 300
+    points = np.column_stack([np.zeros(n), np.arange(n, dtype=float)])
+    assert validate_points._swept_pairs(points, 0.5) is None
+    pairs = validate_points.close_pairs(points, 1.0)
+    assert sorted(map(tuple, pairs.tolist())) == [(k, k + 1) for k in range(n - 1)]
