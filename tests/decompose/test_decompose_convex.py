@@ -78,10 +78,17 @@ def assume_template_room(polygon: np.ndarray) -> None:
     template corners below it (see test_too_thin_polygon_raises), or just above it, with blocks
     so thin (a quadrilateral with a corner of sine 2.3e-12: blocks 1e-13 thick, 0.2 long) that
     assert_valid's relative tolerance (1e-12 of an edge's length) takes a vertex for a hanging
-    node on the next block's edge.
+    node on the next block's edge. And every corner must stand clear of its neighbours' chord in
+    doubles: a corner 1.1e-16 off it (sine 2.2e-10 along edges 1e-6 long, coordinates near 1, as
+    the ci profile drew) leaves a template corner no double can place off its chord, which the
+    decomposition refuses ("too thin for where it sits").
     """
     if len(polygon) <= 4:
         assume(corner_sines(polygon).min() > 1e-10)
+        before, after = np.roll(polygon, 1, axis=0), np.roll(polygon, -1, axis=0)
+        u, w = polygon - before, after - before
+        offset = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / np.hypot(w[:, 0], w[:, 1])
+        assume(offset.min() > 256 * np.spacing(np.abs(polygon).max()))
 
 
 def expected_blocks(n: int) -> int:
